@@ -1,0 +1,62 @@
+#pragma once
+// Back-end configuration: plain structs with defaults; validate() throws std::invalid_argument
+// with a message naming the offending field. YAML loading happens at the edge (app/).
+
+#include <map>
+#include <string>
+
+#include "geometry/rigid_alignment.h"
+
+namespace dslam {
+
+enum class MotionMode {
+  kPerStep,   // a new H vertex per object per frame transition
+  kConstant,  // one H vertex per object for its whole track
+  kSmoothed,  // per-step vertices tied by the smoothness factor
+};
+
+enum class ScheduleKind { kBatch, kSlidingWindow };
+
+struct Schedule {
+  ScheduleKind kind = ScheduleKind::kBatch;
+  int window_frames = 10;  // W, for the sliding window
+};
+
+struct NoiseParams {
+  double point_sigma_m = 0.02;               // 3D measurement sigma per axis at zero depth
+  double point_sigma_per_depth_sq = 0.0;     // added sigma per m^2 of depth (stereo / RGB-D)
+  double motion_sigma_m = 0.005;             // ternary point-motion factor (rigidity)
+  double smoothness_sigma_t_m = 0.1;         // smoothness factor, translation part
+  double smoothness_sigma_r_rad = 0.02;      // smoothness factor, rotation part
+  double prior_sigma = 1e-4;                 // prior on the first camera pose (m and rad)
+  double huber_delta = 2.0;                  // Huber threshold on whitened residuals
+};
+
+struct BackendParams {
+  NoiseParams noise;
+  MotionMode default_mode = MotionMode::kPerStep;
+  std::map<int, MotionMode> mode_per_object;  // overrides default_mode for listed object ids
+  Schedule schedule;
+  // Motion model of the SLAM+MOT baseline's tracker. A multi-object tracker estimates each object's
+  // motion frame to frame; the constant and smoothed models belong to the joint method.
+  MotionMode slam_mot_mode = MotionMode::kPerStep;
+  RansacParams motion_ransac{200, 0.3, 4, 7};  // H initialisation and outlier-track rejection
+  // Sliding window: a landmark in the window keeps its observations from up to this many frames
+  // before the window (cameras there fixed), which anchors the window to the past at bounded cost.
+  int window_history_frames = 40;
+  int max_iterations_batch = 50;
+  int max_iterations_window = 10;
+  int num_threads = 1;  // 1 keeps results bit-for-bit repeatable
+
+  MotionMode modeFor(int object_id) const;
+  void validate() const;
+};
+
+// Parsing helpers shared by the CLI and the YAML loader; they throw std::invalid_argument.
+MotionMode ParseMotionMode(const std::string& text);
+std::string ToString(MotionMode mode);
+// "batch" or "window:W".
+Schedule ParseSchedule(const std::string& text);
+std::string ToString(const Schedule& schedule);
+
+}  // namespace dslam

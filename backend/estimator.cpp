@@ -1,0 +1,85 @@
+#include "backend/estimator.h"
+
+#include <chrono>
+#include <stdexcept>
+
+#include "backend/factors/pose_block.h"
+#include "backend/graph_solver.h"
+#include "geometry/velocity.h"
+
+namespace dslam {
+
+Estimator::Estimator(const BackendParams& params, double frame_rate_hz, const EstimatorOptions& options)
+    : params_(params), frame_rate_hz_(frame_rate_hz), options_(options), builder_(params_, options.builder, &graph_) {
+  params_.validate();
+  if (!(frame_rate_hz > 0.0)) throw std::invalid_argument("frame rate must be positive");
+}
+
+void Estimator::addFrame(const FrameMeasurement& frame) {
+  const int k = graph_.numFrames();
+  const SE3* init = nullptr;
+  if (options_.fixed_T_world_camera) {
+    if (k >= static_cast<int>(options_.fixed_T_world_camera->size()))
+      throw std::invalid_argument("fixed camera trajectory is shorter than the sequence");
+    init = &(*options_.fixed_T_world_camera)[k];
+  }
+  builder_.addFrame(frame, init);
+  if (params_.schedule.kind != ScheduleKind::kSlidingWindow) return;
+
+  const auto start = std::chrono::steady_clock::now();
+  SolveOptions solve;
+  solve.first_frame = k - params_.schedule.window_frames + 1;
+  solve.last_frame = k;
+  solve.max_iterations = params_.max_iterations_window;
+  solve.num_threads = params_.num_threads;
+  solve.fix_cameras = options_.fixed_T_world_camera != nullptr;
+  solve.history_frames = params_.window_history_frames;
+  SolveGraph(params_, solve, &graph_);
+  solve_times_ms_.push_back(
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+}
+
+Estimate Estimator::finish() {
+  if (params_.schedule.kind == ScheduleKind::kBatch) {
+    SolveOptions solve;
+    solve.first_frame = 0;
+    solve.last_frame = graph_.numFrames() - 1;
+    solve.max_iterations = params_.max_iterations_batch;
+    solve.num_threads = params_.num_threads;
+    solve.fix_cameras = options_.fixed_T_world_camera != nullptr;
+    SolveGraph(params_, solve, &graph_);
+  }
+  return extract();
+}
+
+Estimate Estimator::extract() const {
+  Estimate est;
+  for (const auto& block : graph_.camera_poses) est.T_world_camera.push_back(BlockToPose(block.data()));
+  for (const auto& tr : graph_.transitions) {
+    if (tr.is_dynamic && tr.motion_var < 0) continue;  // no estimate for this transition
+    ObjectMotionEstimate m;
+    m.object_id = tr.object_id;
+    m.frame = tr.frame;
+    m.is_dynamic = tr.is_dynamic;
+    if (tr.is_dynamic) m.H_world = BlockToPose(graph_.motions[tr.motion_var].H_world.data());
+    Vec3 centroid = Vec3::Zero();
+    for (int v : tr.prev_point_vars) {
+      const auto& p = graph_.points[v].p_world;
+      centroid += Vec3(p[0], p[1], p[2]);
+    }
+    if (!tr.prev_point_vars.empty()) centroid /= static_cast<double>(tr.prev_point_vars.size());
+    m.centroid_prev_world = centroid;
+    m.velocity_world_per_frame = tr.is_dynamic ? ObjectVelocityPerFrame(m.H_world, centroid) : Vec3::Zero();
+    m.speed_mps = SpeedMps(m.velocity_world_per_frame, frame_rate_hz_);
+    est.object_motions.push_back(m);
+  }
+  for (int k = 0; k < graph_.numFrames(); ++k) {
+    for (const auto& meas : graph_.frames[k].measurements) {
+      const PointVariable& var = graph_.points[meas.point_var];
+      est.points.push_back({k, var.track_id, var.object_id, Vec3(var.p_world[0], var.p_world[1], var.p_world[2])});
+    }
+  }
+  return est;
+}
+
+}  // namespace dslam

@@ -1,0 +1,43 @@
+#pragma once
+// The joint estimator: feeds frames into the factor graph and solves it on the configured schedule
+// (batch: once at the end; sliding window: the last W frames after every frame).
+
+#include <vector>
+
+#include "backend/backend_params.h"
+#include "backend/estimate.h"
+#include "backend/factor_graph.h"
+#include "backend/graph_builder.h"
+
+namespace dslam {
+
+struct EstimatorOptions {
+  BuilderOptions builder;
+  // When set (one pose per frame), camera poses are held at these values: SLAM+MOT's object stage.
+  const std::vector<SE3>* fixed_T_world_camera = nullptr;
+};
+
+class Estimator {
+ public:
+  Estimator(const BackendParams& params, double frame_rate_hz, const EstimatorOptions& options = {});
+
+  void addFrame(const FrameMeasurement& frame);
+  // Runs the final batch solve (batch schedule) and extracts the estimate.
+  Estimate finish();
+
+  // Wall time of the solve that followed each frame (sliding window only), milliseconds.
+  const std::vector<double>& solveTimesMs() const { return solve_times_ms_; }
+  const FactorGraph& graph() const { return graph_; }
+
+ private:
+  Estimate extract() const;
+
+  BackendParams params_;
+  double frame_rate_hz_;
+  EstimatorOptions options_;
+  FactorGraph graph_;
+  GraphBuilder builder_;
+  std::vector<double> solve_times_ms_;
+};
+
+}  // namespace dslam

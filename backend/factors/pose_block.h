@@ -1,0 +1,84 @@
+#pragma once
+// Layout of SE(3) parameter blocks shared by every factor and the manifold:
+// [qx, qy, qz, qw, tx, ty, tz] (Eigen quaternion storage order, then translation).
+// Templated so that Ceres' autodiff Jets flow through; every factor's residual builds on these.
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "geometry/se3.h"
+
+namespace dslam {
+
+constexpr int kPoseBlockSize = 7;
+
+inline void PoseToBlock(const SE3& T, double* block) {
+  const auto& q = T.rotation();
+  block[0] = q.x();
+  block[1] = q.y();
+  block[2] = q.z();
+  block[3] = q.w();
+  block[4] = T.translation().x();
+  block[5] = T.translation().y();
+  block[6] = T.translation().z();
+}
+
+inline SE3 BlockToPose(const double* block) {
+  return SE3(Eigen::Quaterniond(block[3], block[0], block[1], block[2]), Vec3(block[4], block[5], block[6]));
+}
+
+// Product of Eigen's quaternion manifold and R^3, matching the block layout above.
+inline ceres::Manifold* NewPoseManifold() {
+  return new ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>();
+}
+
+template <typename T>
+using Quat = Eigen::Quaternion<T>;
+template <typename T>
+using V3 = Eigen::Matrix<T, 3, 1>;
+
+// Relative transform a^-1 * b of two pose blocks.
+template <typename T>
+void RelativePose(const T* a, const T* b, Quat<T>* q_ab, V3<T>* t_ab) {
+  const Eigen::Map<const Quat<T>> q_a(a), q_b(b);
+  const Eigen::Map<const V3<T>> t_a(a + 4), t_b(b + 4);
+  const Quat<T> q_a_inv = q_a.conjugate();
+  *q_ab = q_a_inv * q_b;
+  *t_ab = q_a_inv * (t_b - t_a);
+}
+
+// SE(3) logarithm [rho; phi] of (q, t), written so autodiff stays finite at the identity.
+template <typename T>
+Eigen::Matrix<T, 6, 1> SE3LogT(const Quat<T>& q_in, const V3<T>& t) {
+  using std::atan2;
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  Quat<T> q = q_in;
+  if (q.w() < T(0)) q.coeffs() = -q.coeffs();
+  const T s_sq = q.vec().squaredNorm();
+  V3<T> phi;
+  if (s_sq < T(1e-12)) {
+    phi = T(2) * q.vec() / q.w();
+  } else {
+    const T s = sqrt(s_sq);
+    phi = (T(2) * atan2(s, q.w()) / s) * q.vec();
+  }
+  const T theta_sq = phi.squaredNorm();
+  T coeff;
+  if (theta_sq < T(1e-10)) {
+    coeff = T(1.0 / 12.0) + theta_sq / T(720.0);
+  } else {
+    const T theta = sqrt(theta_sq);
+    coeff = (T(1) - theta * sin(theta) / (T(2) * (T(1) - cos(theta)))) / theta_sq;
+  }
+  const V3<T> phi_x_t = phi.cross(t);
+  Eigen::Matrix<T, 6, 1> xi;
+  xi.template head<3>() = t - T(0.5) * phi_x_t + coeff * phi.cross(phi_x_t);
+  xi.template tail<3>() = phi;
+  return xi;
+}
+
+}  // namespace dslam

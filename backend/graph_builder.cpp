@@ -1,0 +1,167 @@
+#include "backend/graph_builder.h"
+
+#include <stdexcept>
+
+#include "backend/factors/pose_block.h"
+
+namespace dslam {
+namespace {
+Vec3 ToVec3(const std::array<double, 3>& a) { return Vec3(a[0], a[1], a[2]); }
+}  // namespace
+
+GraphBuilder::GraphBuilder(const BackendParams& params, const BuilderOptions& options, FactorGraph* graph)
+    : params_(params), options_(options), graph_(graph) {
+  graph_->prior_sigma = Vec6::Constant(params.noise.prior_sigma);
+}
+
+Vec3 GraphBuilder::pointSigma(const Vec3& z_camera) const {
+  const double depth = z_camera.z();
+  return Vec3::Constant(params_.noise.point_sigma_m + params_.noise.point_sigma_per_depth_sq * depth * depth);
+}
+
+int GraphBuilder::newPointVariable(const Vec3& p_world, int64_t track_id, int object_id, int frame, int prev_var) {
+  PointVariable var;
+  var.p_world = {p_world.x(), p_world.y(), p_world.z()};
+  var.track_id = track_id;
+  var.object_id = object_id;
+  var.first_frame = frame;
+  var.last_frame = frame;
+  var.eliminate_first = prev_var < 0 ? true : !graph_->points[prev_var].eliminate_first;
+  graph_->points.push_back(var);
+  return static_cast<int>(graph_->points.size()) - 1;
+}
+
+void GraphBuilder::addMeasurement(int frame, int point_var, const Vec3& z_camera) {
+  auto& measurements = graph_->frames[frame].measurements;
+  PointVariable& var = graph_->points[point_var];
+  var.last_frame = frame;
+  var.observations.emplace_back(frame, static_cast<int>(measurements.size()));
+  measurements.push_back({point_var, z_camera, pointSigma(z_camera)});
+}
+
+void GraphBuilder::addFrame(const FrameMeasurement& frame, const SE3* T_world_camera_init) {
+  const int k = graph_->numFrames();
+  if (frame.frame_index != k)
+    throw std::invalid_argument("frame index " + std::to_string(frame.frame_index) + " out of sequence: expected " +
+                                std::to_string(k));
+  if (const std::string bad = FindInvalidMeasurement(frame); !bad.empty()) throw std::invalid_argument(bad);
+
+  SE3 T_world_camera;
+  if (T_world_camera_init) {
+    T_world_camera = *T_world_camera_init;
+  } else if (k == 0) {
+    T_world_camera = graph_->T_world_camera0_prior;
+  } else {
+    T_world_camera = BlockToPose(graph_->camera_poses[k - 1].data());
+    if (frame.odometry) T_world_camera = T_world_camera * frame.odometry->T_prev_curr;
+  }
+  graph_->camera_poses.emplace_back();
+  PoseToBlock(T_world_camera, graph_->camera_poses.back().data());
+  graph_->frames.emplace_back();
+  FrameFactors& factors = graph_->frames.back();
+
+  if (k > 0 && frame.odometry && options_.use_odometry)
+    factors.odometry = OdometryEntry{frame.odometry->T_prev_curr, frame.odometry->sigma};
+
+  if (options_.use_static_points) {
+    for (const auto& obs : frame.static_points) {
+      auto [it, is_new] = static_track_to_var_.try_emplace(obs.track_id, -1);
+      if (is_new) it->second = newPointVariable(T_world_camera * obs.p_camera, obs.track_id, -1, k, -1);
+      addMeasurement(k, it->second, obs.p_camera);
+    }
+  }
+  if (options_.use_objects)
+    for (const auto& obs : frame.objects) addObject(obs, k, T_world_camera);
+}
+
+void GraphBuilder::addObject(const ObjectObservation& obs, int frame, const SE3& T_world_camera) {
+  ObjectTrackState& state = objects_[obs.object_id];
+  const bool consecutive = state.last_frame == frame - 1;
+  std::vector<int> prev_vars(obs.points.size(), -1), curr_vars(obs.points.size(), -1);
+  for (size_t i = 0; i < obs.points.size(); ++i) {
+    if (!consecutive) break;
+    const auto it = state.track_to_var.find(obs.points[i].track_id);
+    if (it != state.track_to_var.end()) prev_vars[i] = it->second;
+  }
+
+  if (consecutive && !obs.is_dynamic) {
+    // Static over k-1 -> k: the object's points keep their variables and act as static structure.
+    ObjectTransition transition{obs.object_id, frame, false, -1, {}};
+    for (size_t i = 0; i < obs.points.size(); ++i) {
+      if (prev_vars[i] >= 0) {
+        curr_vars[i] = prev_vars[i];
+        transition.prev_point_vars.push_back(prev_vars[i]);
+      } else {
+        curr_vars[i] = newPointVariable(T_world_camera * obs.points[i].p_camera, obs.points[i].track_id,
+                                        obs.object_id, frame, -1);
+      }
+    }
+    graph_->transitions.push_back(std::move(transition));
+    state.last_motion_var = -1;
+  } else {
+    for (size_t i = 0; i < obs.points.size(); ++i)
+      curr_vars[i] = newPointVariable(T_world_camera * obs.points[i].p_camera, obs.points[i].track_id, obs.object_id,
+                                      frame, prev_vars[i]);
+    if (consecutive)
+      addDynamicTransition(obs, frame, state, prev_vars, curr_vars);
+    else
+      state.last_motion_var = -1;
+  }
+
+  state.track_to_var.clear();
+  for (size_t i = 0; i < obs.points.size(); ++i) {
+    addMeasurement(frame, curr_vars[i], obs.points[i].p_camera);
+    state.track_to_var[obs.points[i].track_id] = curr_vars[i];
+  }
+  state.last_frame = frame;
+}
+
+void GraphBuilder::addDynamicTransition(const ObjectObservation& obs, int frame, ObjectTrackState& state,
+                                        const std::vector<int>& prev_vars, const std::vector<int>& curr_vars) {
+  ObjectTransition transition{obs.object_id, frame, true, -1, {}};
+  std::vector<Vec3> src, dst;
+  std::vector<size_t> pair_index;
+  for (size_t i = 0; i < obs.points.size(); ++i) {
+    if (prev_vars[i] < 0) continue;
+    src.push_back(ToVec3(graph_->points[prev_vars[i]].p_world));
+    dst.push_back(ToVec3(graph_->points[curr_vars[i]].p_world));
+    pair_index.push_back(i);
+  }
+  RansacParams ransac = params_.motion_ransac;
+  ransac.seed += static_cast<uint64_t>(frame) * 1000003u + static_cast<uint64_t>(obs.object_id);
+  const auto fit = AlignRigidRansac(src, dst, ransac);
+  if (!fit) {
+    // Too few consistent tracks: no motion for this transition (it lowers coverage, not accuracy).
+    graph_->transitions.push_back(std::move(transition));
+    state.last_motion_var = -1;
+    return;
+  }
+
+  FrameFactors& factors = graph_->frames[frame];
+  const MotionMode mode = params_.modeFor(obs.object_id);
+  int motion_var = mode == MotionMode::kConstant ? state.constant_motion_var : -1;
+  if (motion_var < 0) {
+    MotionVariable var;
+    PoseToBlock(fit->transform, var.H_world.data());
+    var.object_id = obs.object_id;
+    var.first_frame = frame;
+    graph_->motions.push_back(var);
+    motion_var = static_cast<int>(graph_->motions.size()) - 1;
+    if (mode == MotionMode::kConstant) state.constant_motion_var = motion_var;
+  }
+  graph_->motions[motion_var].last_frame = frame;
+  if (mode == MotionMode::kSmoothed && state.last_motion_var >= 0)
+    factors.smoothness.push_back({state.last_motion_var, motion_var});
+
+  for (size_t j = 0; j < pair_index.size(); ++j) {
+    if (!fit->is_inlier[j]) continue;
+    const size_t i = pair_index[j];
+    factors.point_motions.push_back({prev_vars[i], curr_vars[i], motion_var});
+    transition.prev_point_vars.push_back(prev_vars[i]);
+  }
+  transition.motion_var = motion_var;
+  graph_->transitions.push_back(std::move(transition));
+  state.last_motion_var = motion_var;
+}
+
+}  // namespace dslam

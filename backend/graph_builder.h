@@ -1,0 +1,51 @@
+#pragma once
+// Turns frames of measurements into variables, initial values and factors of the factor graph.
+
+#include <map>
+#include <unordered_map>
+#include <vector>
+
+#include "backend/backend_params.h"
+#include "backend/factor_graph.h"
+#include "data/measurements.h"
+
+namespace dslam {
+
+struct BuilderOptions {
+  bool use_static_points = true;
+  bool use_objects = true;
+  bool use_odometry = true;
+};
+
+class GraphBuilder {
+ public:
+  GraphBuilder(const BackendParams& params, const BuilderOptions& options, FactorGraph* graph);
+
+  // Adds frame k = graph->numFrames(). The camera pose is initialised by composing the odometry with
+  // the current estimate of frame k-1 (or from `T_world_camera_init` when given).
+  // Throws std::invalid_argument on a frame index out of sequence or non-finite measurements.
+  void addFrame(const FrameMeasurement& frame, const SE3* T_world_camera_init = nullptr);
+
+ private:
+  struct ObjectTrackState {
+    int last_frame = -1;
+    std::unordered_map<int64_t, int> track_to_var;  // variables at last_frame
+    int last_motion_var = -1;                        // for smoothness, valid if made at last_frame
+    int constant_motion_var = -1;                    // constant mode: the object's single H
+  };
+
+  Vec3 pointSigma(const Vec3& z_camera) const;
+  void addMeasurement(int frame, int point_var, const Vec3& z_camera);
+  int newPointVariable(const Vec3& p_world, int64_t track_id, int object_id, int frame, int prev_var);
+  void addObject(const ObjectObservation& obs, int frame, const SE3& T_world_camera);
+  void addDynamicTransition(const ObjectObservation& obs, int frame, ObjectTrackState& state,
+                            const std::vector<int>& prev_vars, const std::vector<int>& curr_vars);
+
+  const BackendParams& params_;
+  BuilderOptions options_;
+  FactorGraph* graph_;
+  std::unordered_map<int64_t, int> static_track_to_var_;
+  std::map<int, ObjectTrackState> objects_;
+};
+
+}  // namespace dslam

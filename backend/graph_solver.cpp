@@ -1,0 +1,123 @@
+// All Ceres autodiff instantiations of the estimator live in this translation unit.
+#include "backend/graph_solver.h"
+
+#include <ceres/ceres.h>
+
+#include <memory>
+#include <unordered_set>
+
+#include "backend/factors/motion_smoothness_factor.h"
+#include "backend/factors/odometry_factor.h"
+#include "backend/factors/point_measurement_factor.h"
+#include "backend/factors/point_motion_factor.h"
+#include "backend/factors/pose_block.h"
+#include "backend/factors/pose_prior_factor.h"
+
+namespace dslam {
+
+SolveSummary SolveGraph(const BackendParams& params, const SolveOptions& options, FactorGraph* graph) {
+  SolveSummary result;
+  const int first = std::max(0, options.first_frame);
+  const int last = std::min(options.last_frame, graph->numFrames() - 1);
+  if (last < first) return result;
+
+  ceres::Problem::Options problem_options;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  ceres::HuberLoss huber(params.noise.huber_delta);
+  std::unique_ptr<ceres::Manifold> pose_manifold(NewPoseManifold());
+
+  std::unordered_set<int> camera_blocks, point_blocks, motion_blocks;
+  auto camera = [&](int k) {
+    double* block = graph->camera_poses[k].data();
+    if (camera_blocks.insert(k).second) {
+      problem.AddParameterBlock(block, kPoseBlockSize, pose_manifold.get());
+      if (k < first || options.fix_cameras) problem.SetParameterBlockConstant(block);
+    }
+    return block;
+  };
+  auto point = [&](int v) {
+    double* block = graph->points[v].p_world.data();
+    if (point_blocks.insert(v).second) {
+      problem.AddParameterBlock(block, 3);
+      if (graph->points[v].last_frame < first) problem.SetParameterBlockConstant(block);
+    }
+    return block;
+  };
+  auto motion = [&](int m) {
+    double* block = graph->motions[m].H_world.data();
+    if (motion_blocks.insert(m).second) {
+      problem.AddParameterBlock(block, kPoseBlockSize, pose_manifold.get());
+      if (graph->motions[m].last_frame < first) problem.SetParameterBlockConstant(block);
+    }
+    return block;
+  };
+
+  if (first == 0 && !options.fix_cameras)
+    problem.AddResidualBlock(PosePriorFactor::Create(graph->T_world_camera0_prior, graph->prior_sigma), nullptr,
+                             camera(0));
+  for (int k = first; k <= last; ++k) {
+    const FrameFactors& factors = graph->frames[k];
+    if (factors.odometry && k > 0 && !options.fix_cameras)
+      problem.AddResidualBlock(OdometryFactor::Create(factors.odometry->T_prev_curr, factors.odometry->sigma), nullptr,
+                               camera(k - 1), camera(k));
+    for (const auto& m : factors.measurements)
+      problem.AddResidualBlock(PointMeasurementFactor::Create(m.z_camera, m.sigma_m), &huber, camera(k),
+                               point(m.point_var));
+    for (const auto& m : factors.point_motions)
+      problem.AddResidualBlock(PointMotionFactor::Create(params.noise.motion_sigma_m), &huber, point(m.prev_point_var),
+                               point(m.curr_point_var), motion(m.motion_var));
+    Vec6 smooth_sigma;
+    smooth_sigma << Vec3::Constant(params.noise.smoothness_sigma_t_m), Vec3::Constant(params.noise.smoothness_sigma_r_rad);
+    for (const auto& s : factors.smoothness)
+      problem.AddResidualBlock(MotionSmoothnessFactor::Create(smooth_sigma), nullptr, motion(s.prev_motion_var),
+                               motion(s.curr_motion_var));
+  }
+  // Window anchoring: older observations of the window's landmarks, against the fixed older cameras.
+  const int history_start = std::max(0, first - options.history_frames);
+  std::vector<int> window_points(point_blocks.begin(), point_blocks.end());
+  for (int v : window_points) {
+    const PointVariable& var = graph->points[v];
+    if (var.first_frame >= first || var.last_frame < first) continue;
+    for (const auto& [frame, index] : var.observations) {
+      if (frame >= first) break;
+      if (frame < history_start) continue;
+      const PointMeasurementEntry& m = graph->frames[frame].measurements[index];
+      problem.AddResidualBlock(PointMeasurementFactor::Create(m.z_camera, m.sigma_m), &huber, camera(frame),
+                               point(v));
+    }
+  }
+  result.num_residual_blocks = problem.NumResidualBlocks();
+  if (result.num_residual_blocks == 0) return result;
+
+  // Points first (Schur complement), then poses and motions.
+  auto* ordering = new ceres::ParameterBlockOrdering;
+  for (int v : point_blocks)
+    ordering->AddElementToGroup(graph->points[v].p_world.data(), graph->points[v].eliminate_first ? 0 : 1);
+  for (int k : camera_blocks) ordering->AddElementToGroup(graph->camera_poses[k].data(), 1);
+  for (int m : motion_blocks) ordering->AddElementToGroup(graph->motions[m].H_world.data(), 1);
+
+  ceres::Solver::Options solver_options;
+  if (ordering->GroupSize(0) > 0) {
+    solver_options.linear_solver_type = ceres::SPARSE_SCHUR;
+    solver_options.linear_solver_ordering.reset(ordering);
+  } else {
+    delete ordering;  // no point to eliminate (e.g. odometry only)
+    solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  }
+  // Eigen's sparse Cholesky: on these problems faster than CHOLMOD, whose OpenMP threads mostly wait.
+  solver_options.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
+  solver_options.max_num_iterations = options.max_iterations;
+  solver_options.num_threads = options.num_threads;
+  solver_options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+  result.num_iterations = static_cast<int>(summary.iterations.size());
+  result.initial_cost = summary.initial_cost;
+  result.final_cost = summary.final_cost;
+  result.usable = summary.IsSolutionUsable();
+  return result;
+}
+
+}  // namespace dslam

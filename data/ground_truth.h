@@ -1,0 +1,37 @@
+#pragma once
+// Ground truth that comes with a sequence, used only by the evaluation.
+
+#include <cstdint>
+#include <map>
+#include <set>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "geometry/se3.h"
+
+namespace dslam {
+
+struct ObjectGroundTruth {
+  int object_id = 0;
+  std::string category = "VEHICLE";
+  std::map<int, SE3> L_world_object;   // object pose per frame (body frame: dataset-defined)
+  std::map<int, Vec3> centroid_world;  // reference point whose displacement defines the true speed
+  std::set<int> observed_frames;       // frames in which the sensor sees it (after range gating)
+};
+
+struct GroundTruth {
+  std::vector<SE3> T_world_camera;  // one per frame
+  std::map<int, ObjectGroundTruth> objects;
+  std::unordered_map<int64_t, Vec3> static_points_world;  // track id -> world position
+  struct BodyPoint {
+    int object_id;
+    Vec3 p_body;
+  };
+  std::unordered_map<int64_t, BodyPoint> object_points;  // track id -> point fixed in the body frame
+
+  // World position of a tracked point at frame k; false when the track id is unknown.
+  bool pointWorld(int64_t track_id, int frame, Vec3* p_world) const;
+};
+
+}  // namespace dslam

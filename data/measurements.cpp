@@ -1,0 +1,32 @@
+#include "data/measurements.h"
+
+#include <set>
+#include <sstream>
+
+namespace dslam {
+
+std::string FindInvalidMeasurement(const FrameMeasurement& frame) {
+  std::ostringstream err;
+  const std::string where = "frame " + std::to_string(frame.frame_index) + ": ";
+  if (frame.odometry) {
+    const auto& o = *frame.odometry;
+    if (!o.T_prev_curr.translation().allFinite() || !o.T_prev_curr.rotation().coeffs().allFinite())
+      return where + "odometry increment is not finite";
+    if (!o.sigma.allFinite() || (o.sigma.array() <= 0.0).any())
+      return where + "odometry sigmas must be positive and finite";
+  }
+  for (const auto& p : frame.static_points)
+    if (!p.p_camera.allFinite()) return where + "static point track " + std::to_string(p.track_id) + " is not finite";
+  std::set<int> ids;
+  for (const auto& obj : frame.objects) {
+    if (!ids.insert(obj.object_id).second)
+      return where + "object id " + std::to_string(obj.object_id) + " appears twice";
+    for (const auto& p : obj.points)
+      if (!p.p_camera.allFinite())
+        return where + "object " + std::to_string(obj.object_id) + " point track " + std::to_string(p.track_id) +
+               " is not finite";
+  }
+  return {};
+}
+
+}  // namespace dslam

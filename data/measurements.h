@@ -1,0 +1,49 @@
+#pragma once
+// What a frame source (simulator, dataset reader, DDS) hands the pipeline for one frame:
+// small value structs, timestamps in integer nanoseconds.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "geometry/se3.h"
+
+namespace dslam {
+
+// A tracked 3D point seen in one frame, in that frame's camera coordinates (back-projected depth).
+struct PointObservation {
+  int64_t track_id = 0;  // the same physical point keeps its id over frames
+  Vec3 p_camera = Vec3::Zero();
+};
+
+// Points that fall inside one instance mask.
+struct ObjectObservation {
+  int object_id = 0;
+  std::vector<PointObservation> points;
+  // Set by the front-end's scene-flow test over the transition from the previous frame; an object
+  // first seen in this frame stays dynamic (it has no previous frame to compare with).
+  bool is_dynamic = true;
+};
+
+// Odometry increment T_prev_curr = T_world_camera[k-1]^-1 * T_world_camera[k] with per-axis sigmas.
+struct OdometryMeasurement {
+  SE3 T_prev_curr;
+  Vec6 sigma = Vec6::Constant(0.01);  // [translation m x3; rotation rad x3]
+};
+
+struct FrameMeasurement {
+  int frame_index = 0;
+  int64_t t_ns = 0;
+  std::optional<OdometryMeasurement> odometry;  // absent on the first frame
+  std::vector<PointObservation> static_points;   // background points
+  std::vector<ObjectObservation> objects;
+};
+
+}  // namespace dslam
+
+namespace dslam {
+// Empty when the frame is usable; otherwise a message naming the first bad value
+// (non-finite point or odometry, non-positive odometry sigma, duplicate object id).
+std::string FindInvalidMeasurement(const FrameMeasurement& frame);
+}  // namespace dslam

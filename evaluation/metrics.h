@@ -1,0 +1,69 @@
+#pragma once
+// The error metrics of DESIGN.md §4, computed from plain inputs so that each can be checked by hand.
+
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "geometry/se3.h"
+
+namespace dslam {
+
+// An object is "moving" over a frame pair when its true centroid speed reaches this.
+constexpr double kMovingSpeedThresholdMps = 1.0;
+// Below this camera path length, relative errors are replaced by mean absolute per-step errors.
+constexpr double kMinPathForRelativeErrorM = 1.0;
+
+struct CameraMetrics {
+  double path_length_m = 0.0;
+  std::optional<double> rte_pct;         // relative translation error
+  std::optional<double> rre_deg_per_m;   // relative rotation error
+  std::optional<double> mean_step_te_m;  // only when the path is shorter than 1 m
+  std::optional<double> mean_step_re_deg;
+  double ate_m = 0.0;  // RMSE of positions, no alignment
+};
+
+// Poses per frame; both vectors must have the same size (throws std::invalid_argument otherwise).
+CameraMetrics ComputeCameraMetrics(const std::vector<SE3>& T_world_camera_gt, const std::vector<SE3>& T_world_camera_est);
+
+// RSE (%) = 100 * sum |p_est - p_gt| / sum |p_gt| over observations, points in the observing camera's frame.
+// Pairs are (p_est, p_gt); nullopt when empty.
+std::optional<double> ComputeRsePct(const std::vector<std::pair<Vec3, Vec3>>& p_est_gt_camera);
+
+// One object over one ground-truth frame pair k-1 -> k.
+struct ObjectPairSample {
+  int object_id = 0;
+  int frame = 0;
+  SE3 H_world_gt;
+  SE3 L_world_object_gt_prev;  // ground-truth object pose at k-1, for the body-frame comparison
+  double speed_gt_mps = 0.0;
+  bool estimated = false;
+  SE3 H_world_est;
+  double speed_est_mps = 0.0;
+  bool est_dynamic = false;
+
+  bool gtMoving() const { return speed_gt_mps >= kMovingSpeedThresholdMps; }
+};
+
+struct ObjectMetrics {
+  int gt_pairs = 0;
+  int estimated_pairs = 0;
+  int moving_pairs_estimated = 0;
+  int static_pairs_estimated = 0;
+  std::optional<double> omte_pct;
+  std::optional<double> omre_deg_per_m;
+  std::optional<double> omse_pct;
+  std::optional<double> me_t_m;
+  std::optional<double> me_r_deg;
+  std::optional<double> speed_err_mps;
+  std::optional<double> object_coverage;          // estimated / ground-truth pairs
+  std::optional<double> static_mean_speed_mps;    // over estimated static pairs
+  std::optional<double> static_false_dynamic_frac;
+};
+
+// Body-frame motion error E = H_body_gt^-1 * H_body_est with H_body = L_prev^-1 * H_world * L_prev.
+SE3 ObjectMotionError(const ObjectPairSample& s);
+
+ObjectMetrics ComputeObjectMetrics(const std::vector<ObjectPairSample>& samples);
+
+}  // namespace dslam

@@ -1,0 +1,170 @@
+#include "output/run_report.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "output/trajectory_io.h"
+
+namespace dslam {
+namespace {
+nlohmann::json Opt(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
+
+std::ofstream OpenCsv(const std::string& path, const std::string& header) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error("cannot write " + path);
+  out << std::setprecision(9) << header << '\n';
+  return out;
+}
+
+void PutPose(std::ostream& out, const SE3* H) {
+  if (!H) {
+    out << ",,,,,,,";
+    return;
+  }
+  const auto& t = H->translation();
+  const auto& q = H->rotation();
+  out << ',' << t.x() << ',' << t.y() << ',' << t.z() << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << q.w();
+}
+
+// Rows for every ground-truth pair (estimate blank when missing) and every estimate without one.
+void WriteObjectTables(const std::string& dir, const std::string& suffix, const Sequence& seq, const Estimate& est) {
+  const auto samples = BuildObjectSamples(seq, est);
+  std::set<std::pair<int, int>> covered;
+  std::ofstream motions = OpenCsv(dir + "/object_motions" + suffix + ".csv",
+                                  "frame,object_id,is_dynamic,est_tx,est_ty,est_tz,est_qx,est_qy,est_qz,est_qw,"
+                                  "gt_tx,gt_ty,gt_tz,gt_qx,gt_qy,gt_qz,gt_qw");
+  std::ofstream speeds = OpenCsv(dir + "/object_speeds" + suffix + ".csv",
+                                 "frame,object_id,is_dynamic,est_speed_mps,gt_speed_mps");
+  for (const auto& s : samples) {
+    covered.insert({s.object_id, s.frame});
+    motions << s.frame << ',' << s.object_id << ',' << (s.estimated ? std::to_string(s.est_dynamic) : "");
+    PutPose(motions, s.estimated ? &s.H_world_est : nullptr);
+    PutPose(motions, &s.H_world_gt);
+    motions << '\n';
+    speeds << s.frame << ',' << s.object_id << ',' << (s.estimated ? std::to_string(s.est_dynamic) : "") << ',';
+    if (s.estimated) speeds << s.speed_est_mps;
+    speeds << ',' << s.speed_gt_mps << '\n';
+  }
+  for (const auto& m : est.object_motions) {
+    if (covered.count({m.object_id, m.frame})) continue;
+    motions << m.frame << ',' << m.object_id << ',' << m.is_dynamic;
+    PutPose(motions, &m.H_world);
+    PutPose(motions, nullptr);
+    motions << '\n';
+    speeds << m.frame << ',' << m.object_id << ',' << m.is_dynamic << ',' << m.speed_mps << ",\n";
+  }
+  if (!motions || !speeds) throw std::runtime_error("error while writing the object tables in " + dir);
+}
+
+std::string Cell(const std::optional<double>& v, int precision) {
+  if (!v) return "-";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(precision) << *v;
+  return s.str();
+}
+}  // namespace
+
+nlohmann::json MethodMetricsJson(const MethodMetrics& m, double wall_time_s) {
+  nlohmann::json j;
+  j["rte_pct"] = Opt(m.camera.rte_pct);
+  j["rre_deg_per_m"] = Opt(m.camera.rre_deg_per_m);
+  j["rse_pct"] = Opt(m.rse_pct);
+  const ObjectMetrics* o = m.objects ? &*m.objects : nullptr;
+  j["omte_pct"] = Opt(o ? o->omte_pct : std::nullopt);
+  j["omre_deg_per_m"] = Opt(o ? o->omre_deg_per_m : std::nullopt);
+  j["omse_pct"] = Opt(o ? o->omse_pct : std::nullopt);
+  j["ate_m"] = m.camera.ate_m;
+  j["me_t_m"] = Opt(o ? o->me_t_m : std::nullopt);
+  j["me_r_deg"] = Opt(o ? o->me_r_deg : std::nullopt);
+  j["speed_err_mps"] = Opt(o ? o->speed_err_mps : std::nullopt);
+  j["object_coverage"] = Opt(o ? o->object_coverage : std::nullopt);
+  // Beyond the fixed schema: context a reader needs to interpret the figures above.
+  j["speed_err_kmh"] = Opt(o && o->speed_err_mps ? std::optional<double>(*o->speed_err_mps * 3.6) : std::nullopt);
+  j["camera_path_m"] = m.camera.path_length_m;
+  j["mean_step_te_m"] = Opt(m.camera.mean_step_te_m);
+  j["mean_step_re_deg"] = Opt(m.camera.mean_step_re_deg);
+  j["static_pairs_mean_speed_mps"] = Opt(o ? o->static_mean_speed_mps : std::nullopt);
+  j["static_pairs_false_dynamic_frac"] = Opt(o ? o->static_false_dynamic_frac : std::nullopt);
+  j["object_gt_pairs"] = o ? nlohmann::json(o->gt_pairs) : nlohmann::json(nullptr);
+  j["object_moving_pairs_estimated"] = o ? nlohmann::json(o->moving_pairs_estimated) : nlohmann::json(nullptr);
+  j["wall_time_s"] = wall_time_s;
+  return j;
+}
+
+void WriteRunOutputs(const std::string& dir, const Sequence& seq, const MethodOutcomes& outcomes,
+                     const nlohmann::json& run_info) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw std::runtime_error("cannot create output directory " + dir + ": " + ec.message());
+
+  nlohmann::json metrics;
+  for (const auto& [method, outcome] : outcomes)
+    metrics["methods"][ToString(method)] = MethodMetricsJson(outcome.metrics, outcome.result.wall_time_s);
+  metrics["run"] = run_info;
+  {
+    std::ofstream out(dir + "/metrics.json");
+    if (!out) throw std::runtime_error("cannot write " + dir + "/metrics.json");
+    out << metrics.dump(2) << '\n';
+  }
+
+  std::vector<int64_t> t_ns;
+  for (const auto& f : seq.frames) t_ns.push_back(f.t_ns);
+  WriteTumTrajectory(dir + "/camera_gt.tum", t_ns, seq.gt.T_world_camera);
+  WriteKittiTrajectory(dir + "/camera_gt.kitti", seq.gt.T_world_camera);
+  for (const auto& [method, outcome] : outcomes) {
+    WriteTumTrajectory(dir + "/camera_" + ToString(method) + ".tum", t_ns, outcome.result.estimate.T_world_camera);
+    WriteKittiTrajectory(dir + "/camera_" + ToString(method) + ".kitti", outcome.result.estimate.T_world_camera);
+    if (method == Method::kOurs) WriteObjectTables(dir, "", seq, outcome.result.estimate);
+    if (method == Method::kSlamMot) WriteObjectTables(dir, "_slam_mot", seq, outcome.result.estimate);
+  }
+}
+
+std::string FormatMetricsTable(const MethodOutcomes& outcomes, const std::string& title) {
+  struct Row {
+    const char* label;
+    std::function<std::optional<double>(const MethodMetrics&)> get;
+    int precision;
+  };
+  auto obj = [](auto field) {
+    return [field](const MethodMetrics& m) -> std::optional<double> {
+      return m.objects ? (*m.objects).*field : std::nullopt;
+    };
+  };
+  const std::vector<Row> rows = {
+      {"Camera RTE (%)", [](const MethodMetrics& m) { return m.camera.rte_pct; }, 3},
+      {"Camera RRE (deg/m)", [](const MethodMetrics& m) { return m.camera.rre_deg_per_m; }, 4},
+      {"Camera ATE (m)", [](const MethodMetrics& m) { return std::optional<double>(m.camera.ate_m); }, 3},
+      {"Structure RSE (%)", [](const MethodMetrics& m) { return m.rse_pct; }, 3},
+      {"Object OMTE (%)", obj(&ObjectMetrics::omte_pct), 3},
+      {"Object OMRE (deg/m)", obj(&ObjectMetrics::omre_deg_per_m), 4},
+      {"Object OMSE (%)", obj(&ObjectMetrics::omse_pct), 3},
+      {"Object ME_t (m)", obj(&ObjectMetrics::me_t_m), 4},
+      {"Object ME_r (deg)", obj(&ObjectMetrics::me_r_deg), 4},
+      {"Speed error (m/s)", obj(&ObjectMetrics::speed_err_mps), 3},
+      {"Object coverage", obj(&ObjectMetrics::object_coverage), 3},
+  };
+  const std::vector<Method> columns = {Method::kStaticOnly, Method::kSlamMot, Method::kOurs};
+  std::ostringstream out;
+  out << title << '\n';
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "%-22s %14s %14s %14s\n", "metric", "static-only", "SLAM+MOT", "ours");
+  out << buf;
+  for (const auto& row : rows) {
+    std::string cells[3];
+    for (int c = 0; c < 3; ++c) {
+      const auto it = outcomes.find(columns[c]);
+      cells[c] = it == outcomes.end() ? "-" : Cell(row.get(it->second.metrics), row.precision);
+    }
+    std::snprintf(buf, sizeof buf, "%-22s %14s %14s %14s\n", row.label, cells[0].c_str(), cells[1].c_str(),
+                  cells[2].c_str());
+    out << buf;
+  }
+  return out.str();
+}
+
+}  // namespace dslam

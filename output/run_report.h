@@ -1,0 +1,34 @@
+#pragma once
+// Result files of a run (metrics.json, trajectories, object motion and speed tables) and the
+// console table, written from the methods' estimates and metrics.
+
+#include <map>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "backend/methods.h"
+#include "data/sequence.h"
+#include "evaluation/evaluate_run.h"
+
+namespace dslam {
+
+struct MethodOutcome {
+  MethodResult result;
+  MethodMetrics metrics;
+};
+
+using MethodOutcomes = std::map<Method, MethodOutcome>;
+
+// The metrics.json object of one method (keys fixed by the schema; null where absent).
+nlohmann::json MethodMetricsJson(const MethodMetrics& metrics, double wall_time_s);
+
+// Writes into `dir` (created if needed): metrics.json, camera_{gt,ours,static_only,slam_mot}.{tum,kitti},
+// object_motions.csv and object_speeds.csv (ours), object_motions_slam_mot.csv, object_speeds_slam_mot.csv.
+void WriteRunOutputs(const std::string& dir, const Sequence& seq, const MethodOutcomes& outcomes,
+                     const nlohmann::json& run_info);
+
+// Rows = metrics, columns = static-only, SLAM+MOT, ours (as the paper's Table I).
+std::string FormatMetricsTable(const MethodOutcomes& outcomes, const std::string& title);
+
+}  // namespace dslam

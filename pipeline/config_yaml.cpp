@@ -1,0 +1,133 @@
+#include "pipeline/config_yaml.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+namespace dslam {
+namespace {
+// One binding per configurable scalar: how to read it from a YAML node and write it back.
+struct Binding {
+  std::function<void(const YAML::Node&, RunConfig&)> read;
+  std::function<void(YAML::Emitter&, const RunConfig&)> write;
+};
+
+template <typename T>
+Binding Field(std::function<T&(RunConfig&)> ref) {
+  return {[ref](const YAML::Node& n, RunConfig& c) { ref(c) = n.as<T>(); },
+          [ref](YAML::Emitter& e, const RunConfig& c) { e << ref(const_cast<RunConfig&>(c)); }};
+}
+
+Binding ModeField() {
+  return {[](const YAML::Node& n, RunConfig& c) { c.backend.default_mode = ParseMotionMode(n.as<std::string>()); },
+          [](YAML::Emitter& e, const RunConfig& c) { e << ToString(c.backend.default_mode); }};
+}
+
+Binding ScheduleField() {
+  return {[](const YAML::Node& n, RunConfig& c) { c.backend.schedule = ParseSchedule(n.as<std::string>()); },
+          [](YAML::Emitter& e, const RunConfig& c) { e << ToString(c.backend.schedule); }};
+}
+
+// section -> key -> binding, in the order they are written.
+using Schema = std::vector<std::pair<std::string, std::vector<std::pair<std::string, Binding>>>>;
+
+const Schema& GetSchema() {
+  static const Schema schema = {
+      {"backend",
+       {{"motion_mode", ModeField()},
+        {"schedule", ScheduleField()},
+        {"max_iterations_batch", Field<int>([](RunConfig& c) -> int& { return c.backend.max_iterations_batch; })},
+        {"max_iterations_window", Field<int>([](RunConfig& c) -> int& { return c.backend.max_iterations_window; })},
+        {"num_threads", Field<int>([](RunConfig& c) -> int& { return c.backend.num_threads; })}}},
+      {"noise",
+       {{"point_sigma_m", Field<double>([](RunConfig& c) -> double& { return c.backend.noise.point_sigma_m; })},
+        {"point_sigma_per_depth_sq",
+         Field<double>([](RunConfig& c) -> double& { return c.backend.noise.point_sigma_per_depth_sq; })},
+        {"motion_sigma_m", Field<double>([](RunConfig& c) -> double& { return c.backend.noise.motion_sigma_m; })},
+        {"smoothness_sigma_t_m",
+         Field<double>([](RunConfig& c) -> double& { return c.backend.noise.smoothness_sigma_t_m; })},
+        {"smoothness_sigma_r_rad",
+         Field<double>([](RunConfig& c) -> double& { return c.backend.noise.smoothness_sigma_r_rad; })},
+        {"prior_sigma", Field<double>([](RunConfig& c) -> double& { return c.backend.noise.prior_sigma; })},
+        {"huber_delta", Field<double>([](RunConfig& c) -> double& { return c.backend.noise.huber_delta; })}}},
+      {"motion_ransac",
+       {{"max_iterations", Field<int>([](RunConfig& c) -> int& { return c.backend.motion_ransac.max_iterations; })},
+        {"inlier_threshold_m",
+         Field<double>([](RunConfig& c) -> double& { return c.backend.motion_ransac.inlier_threshold_m; })},
+        {"min_inliers", Field<int>([](RunConfig& c) -> int& { return c.backend.motion_ransac.min_inliers; })}}},
+      {"classifier",
+       {{"dynamic_speed_threshold_mps",
+         Field<double>([](RunConfig& c) -> double& { return c.classifier.dynamic_speed_threshold_mps; })},
+        {"min_static_inliers", Field<int>([](RunConfig& c) -> int& { return c.classifier.min_static_inliers; })}}},
+  };
+  return schema;
+}
+}  // namespace
+
+RunConfig ParseRunConfig(const std::string& yaml_text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw std::invalid_argument(source + ": not valid YAML: " + e.what());
+  }
+  RunConfig config;
+  if (root.IsNull()) return config;
+  if (!root.IsMap()) throw std::invalid_argument(source + ": the top level must be a mapping of sections");
+  const Schema& schema = GetSchema();
+  for (const auto& section : root) {
+    const std::string name = section.first.as<std::string>();
+    auto it = std::find_if(schema.begin(), schema.end(), [&](const auto& s) { return s.first == name; });
+    if (it == schema.end()) throw std::invalid_argument(source + ": unknown section '" + name + "'");
+    if (!section.second.IsMap()) throw std::invalid_argument(source + ": section '" + name + "' must be a mapping");
+    for (const auto& entry : section.second) {
+      const std::string key = entry.first.as<std::string>();
+      auto field = std::find_if(it->second.begin(), it->second.end(), [&](const auto& f) { return f.first == key; });
+      if (field == it->second.end()) throw std::invalid_argument(source + ": unknown key '" + name + "." + key + "'");
+      try {
+        field->second.read(entry.second, config);
+      } catch (const YAML::Exception&) {
+        throw std::invalid_argument(source + ": '" + name + "." + key + "' has the wrong type");
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(source + ": '" + name + "." + key + "': " + e.what());
+      }
+    }
+  }
+  try {
+    config.validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(source + ": " + e.what());
+  }
+  return config;
+}
+
+RunConfig LoadRunConfig(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::invalid_argument("cannot open configuration file " + path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return ParseRunConfig(text.str(), path);
+}
+
+std::string RunConfigToYaml(const RunConfig& config) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << YAML::BeginMap;
+  for (const auto& [section, fields] : GetSchema()) {
+    out << YAML::Key << section << YAML::Value << YAML::BeginMap;
+    for (const auto& [key, binding] : fields) {
+      out << YAML::Key << key << YAML::Value;
+      binding.write(out, config);
+    }
+    out << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+}  // namespace dslam

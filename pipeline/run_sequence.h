@@ -1,0 +1,20 @@
+#pragma once
+// Runs the front-end labelling and the three methods on a sequence and evaluates them.
+
+#include <ostream>
+#include <vector>
+
+#include "data/sequence.h"
+#include "output/run_report.h"
+#include "pipeline/run_config.h"
+
+namespace dslam {
+
+struct RunSequenceOptions {
+  std::vector<Method> methods = {Method::kOurs, Method::kStaticOnly, Method::kSlamMot};
+  std::ostream* progress = nullptr;  // progress lines on long runs; nullptr = quiet
+};
+
+MethodOutcomes RunSequence(const Sequence& seq, const RunConfig& config, const RunSequenceOptions& options = {});
+
+}  // namespace dslam

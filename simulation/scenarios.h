@@ -1,0 +1,37 @@
+#pragma once
+// Built-in simulated scenarios (DESIGN.md §5):
+//  - "paper": the simulated experiment of Henein et al. 2020: one ellipsoid-shaped rigid object with a
+//    constant SE(3) pose change, a camera on a circular path that keeps it in view, no static structure.
+//  - "city": a street with sparse static landmarks (facades, ground, poles), parked cars on both sides
+//    and, every 200 frames, five moving cars: accelerating, braking, turning off, stopping (then
+//    parked) and one hidden for 15 frames.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "data/sequence.h"
+#include "simulation/sensor_simulator.h"
+
+namespace dslam {
+
+struct ScenarioOptions {
+  int num_frames = 0;  // 0: the scenario's default length
+  uint64_t seed = 1;
+  SimNoise noise;
+};
+
+std::vector<std::string> ScenarioNames();
+// Throws std::invalid_argument for an unknown name or bad options.
+Sequence MakeScenario(const std::string& name, const ScenarioOptions& options);
+// The motion model the scenario is meant for ("constant" for paper, "smoothed" for city).
+std::string ScenarioDefaultMotionMode(const std::string& name);
+
+// City object ids of cycle c (frames [200c, 200c + 200)): 10 * c + role, role 1..5.
+enum CityRole { kCityAccelerating = 1, kCityBraking = 2, kCityTurning = 3, kCityStopping = 4, kCityOccluded = 5 };
+constexpr int kCityCycleFrames = 200;
+constexpr int kCityParkedIdBase = 1000;  // parked cars: ids 1000, 1001, ...
+// Frames of a cycle during which the kCityOccluded car is hidden.
+constexpr int kCityOcclusionBegin = 60, kCityOcclusionEnd = 75;
+
+}  // namespace dslam

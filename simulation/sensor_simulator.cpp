@@ -1,0 +1,115 @@
+#include "simulation/sensor_simulator.h"
+
+#include <random>
+#include <stdexcept>
+
+namespace dslam {
+namespace {
+constexpr int64_t kObjectTrackBase = 1'000'000;
+constexpr int64_t kTracksPerObject = 100'000;
+
+Vec3 GaussianVec3(std::mt19937_64& rng, double sigma) {
+  std::normal_distribution<double> n(0.0, sigma);
+  return Vec3(n(rng), n(rng), n(rng));
+}
+
+OdometryMeasurement NoisyOdometry(const SE3& T_prev_curr_true, const SimNoise& noise, std::mt19937_64& rng) {
+  OdometryMeasurement odom;
+  const double sigma_t =
+      std::max(noise.odom_translation_floor_m, noise.odom_translation_fraction * T_prev_curr_true.translation().norm());
+  const double sigma_r = std::max(noise.odom_rotation_floor_rad, noise.odom_rotation_fraction * T_prev_curr_true.angle());
+  odom.sigma << Vec3::Constant(sigma_t), Vec3::Constant(sigma_r);
+  Vec6 xi;
+  xi << GaussianVec3(rng, sigma_t), GaussianVec3(rng, sigma_r);
+  odom.T_prev_curr = T_prev_curr_true * SE3::Exp(xi);
+  return odom;
+}
+}  // namespace
+
+bool PinholeCamera::inImage(const Vec3& p) const {
+  if (p.z() <= 0.0) return false;
+  const double u = fx * p.x() / p.z() + cx, v = fy * p.y() / p.z() + cy;
+  return u >= 0.0 && u < width && v >= 0.0 && v < height;
+}
+
+void SimNoise::validate() const {
+  if (!(point_sigma_m >= 0.0)) throw std::invalid_argument("point sigma must be >= 0");
+  if (!(odom_translation_fraction >= 0.0) || !(odom_rotation_fraction >= 0.0))
+    throw std::invalid_argument("odometry noise fractions must be >= 0");
+  if (!(odom_translation_floor_m > 0.0) || !(odom_rotation_floor_rad > 0.0))
+    throw std::invalid_argument("odometry noise floors must be positive");
+}
+
+Sequence SimulateSensor(const SimWorld& world, const SensorModel& sensor, const SimNoise& noise, uint64_t seed) {
+  noise.validate();
+  const int num_frames = static_cast<int>(world.T_world_camera.size());
+  if (num_frames < 2) throw std::invalid_argument("a simulated sequence needs at least 2 frames");
+  for (const auto& obj : world.objects)
+    if (static_cast<int>(obj.L_world_object.size()) != num_frames)
+      throw std::invalid_argument("object " + std::to_string(obj.object_id) + " has no pose for every frame");
+
+  std::mt19937_64 rng(seed);
+  // World = the first camera frame.
+  const SE3 T_new_old = world.T_world_camera.front().inverse();
+
+  Sequence seq;
+  seq.name = world.name;
+  seq.frame_rate_hz = world.frame_rate_hz;
+  GroundTruth& gt = seq.gt;
+  for (const SE3& T : world.T_world_camera) gt.T_world_camera.push_back(T_new_old * T);
+  for (size_t i = 0; i < world.static_points_world.size(); ++i)
+    gt.static_points_world[static_cast<int64_t>(i)] = T_new_old * world.static_points_world[i];
+  for (size_t j = 0; j < world.objects.size(); ++j) {
+    const SimObject& obj = world.objects[j];
+    ObjectGroundTruth& o = gt.objects[obj.object_id];
+    o.object_id = obj.object_id;
+    o.category = obj.category;
+    for (int k = 0; k < num_frames; ++k) {
+      o.L_world_object[k] = T_new_old * obj.L_world_object[k];
+      o.centroid_world[k] = o.L_world_object[k] * obj.centroid_body;
+    }
+    for (size_t i = 0; i < obj.surface.size(); ++i)
+      gt.object_points[kObjectTrackBase + static_cast<int64_t>(j) * kTracksPerObject + static_cast<int64_t>(i)] = {
+          obj.object_id, obj.surface[i].p_body};
+  }
+
+  for (int k = 0; k < num_frames; ++k) {
+    FrameMeasurement frame;
+    frame.frame_index = k;
+    frame.t_ns = static_cast<int64_t>(k * 1e9 / world.frame_rate_hz);
+    const SE3 T_camera_world = gt.T_world_camera[k].inverse();
+    if (k > 0) frame.odometry = NoisyOdometry(gt.T_world_camera[k - 1].inverse() * gt.T_world_camera[k], noise, rng);
+
+    for (size_t i = 0; i < world.static_points_world.size(); ++i) {
+      const Vec3 p = T_camera_world * gt.static_points_world[static_cast<int64_t>(i)];
+      if (p.z() < sensor.min_depth_m || p.norm() > sensor.static_max_range_m || !sensor.camera.inImage(p)) continue;
+      frame.static_points.push_back({static_cast<int64_t>(i), p + GaussianVec3(rng, noise.point_sigma_m)});
+    }
+
+    for (size_t j = 0; j < world.objects.size(); ++j) {
+      const SimObject& obj = world.objects[j];
+      ObjectGroundTruth& o = gt.objects[obj.object_id];
+      if (obj.occluded_frames.count(k)) continue;
+      if ((T_camera_world * o.centroid_world[k]).norm() >= sensor.object_max_range_m) continue;
+      const SE3 T_camera_object = T_camera_world * o.L_world_object[k];
+      const Vec3 camera_in_object = T_camera_object.inverse().translation();
+      ObjectObservation obs;
+      obs.object_id = obj.object_id;
+      for (size_t i = 0; i < obj.surface.size(); ++i) {
+        const SurfacePoint& s = obj.surface[i];
+        if (s.normal_body.dot(camera_in_object - s.p_body) <= 0.0) continue;  // back face
+        const Vec3 p = T_camera_object * s.p_body;
+        if (p.z() < sensor.min_depth_m || !sensor.camera.inImage(p)) continue;
+        obs.points.push_back({kObjectTrackBase + static_cast<int64_t>(j) * kTracksPerObject + static_cast<int64_t>(i),
+                              p + GaussianVec3(rng, noise.point_sigma_m)});
+      }
+      if (static_cast<int>(obs.points.size()) < sensor.min_object_points) continue;
+      o.observed_frames.insert(k);
+      frame.objects.push_back(std::move(obs));
+    }
+    seq.frames.push_back(std::move(frame));
+  }
+  return seq;
+}
+
+}  // namespace dslam
