@@ -8,11 +8,12 @@
 #include <utility>
 #include <vector>
 
+#include "backend/factors/pose_block.h"
 #include "geometry/se3.h"
 
 namespace dslam {
 
-using PoseBlock = std::array<double, 7>;  // layout of backend/factors/pose_block.h
+
 
 struct PointVariable {
   std::array<double, 3> p_world{};

@@ -23,9 +23,31 @@ Binding Field(std::function<T&(RunConfig&)> ref) {
           [ref](YAML::Emitter& e, const RunConfig& c) { e << ref(const_cast<RunConfig&>(c)); }};
 }
 
-Binding ModeField() {
-  return {[](const YAML::Node& n, RunConfig& c) { c.backend.default_mode = ParseMotionMode(n.as<std::string>()); },
-          [](YAML::Emitter& e, const RunConfig& c) { e << ToString(c.backend.default_mode); }};
+Binding ModeField(std::function<MotionMode&(RunConfig&)> ref) {
+  return {[ref](const YAML::Node& n, RunConfig& c) { ref(c) = ParseMotionMode(n.as<std::string>()); },
+          [ref](YAML::Emitter& e, const RunConfig& c) { e << ToString(ref(const_cast<RunConfig&>(c))); }};
+}
+
+// object id -> motion mode, e.g. {3: constant, 7: smoothed}.
+Binding ObjectModesField() {
+  return {[](const YAML::Node& n, RunConfig& c) {
+            if (!n.IsMap() && !n.IsNull()) throw std::invalid_argument("must map object ids to motion modes");
+            c.backend.mode_per_object.clear();
+            for (const auto& entry : n) {
+              int id = 0;
+              try {
+                id = entry.first.as<int>();
+              } catch (const YAML::Exception&) {
+                throw std::invalid_argument("object id '" + entry.first.as<std::string>() + "' is not an integer");
+              }
+              c.backend.mode_per_object[id] = ParseMotionMode(entry.second.as<std::string>());
+            }
+          },
+          [](YAML::Emitter& e, const RunConfig& c) {
+            e << YAML::Flow << YAML::BeginMap;
+            for (const auto& [id, mode] : c.backend.mode_per_object) e << YAML::Key << id << YAML::Value << ToString(mode);
+            e << YAML::EndMap;
+          }};
 }
 
 Binding ScheduleField() {
@@ -39,8 +61,11 @@ using Schema = std::vector<std::pair<std::string, std::vector<std::pair<std::str
 const Schema& GetSchema() {
   static const Schema schema = {
       {"backend",
-       {{"motion_mode", ModeField()},
+       {{"motion_mode", ModeField([](RunConfig& c) -> MotionMode& { return c.backend.default_mode; })},
+        {"object_modes", ObjectModesField()},
+        {"slam_mot_mode", ModeField([](RunConfig& c) -> MotionMode& { return c.backend.slam_mot_mode; })},
         {"schedule", ScheduleField()},
+        {"window_history_frames", Field<int>([](RunConfig& c) -> int& { return c.backend.window_history_frames; })},
         {"max_iterations_batch", Field<int>([](RunConfig& c) -> int& { return c.backend.max_iterations_batch; })},
         {"max_iterations_window", Field<int>([](RunConfig& c) -> int& { return c.backend.max_iterations_window; })},
         {"num_threads", Field<int>([](RunConfig& c) -> int& { return c.backend.num_threads; })}}},

@@ -5,6 +5,8 @@
 
 #include <ceres/ceres.h>
 
+#include <array>
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -13,6 +15,7 @@
 namespace dslam {
 
 constexpr int kPoseBlockSize = 7;
+using PoseBlock = std::array<double, kPoseBlockSize>;
 
 inline void PoseToBlock(const SE3& T, double* block) {
   const auto& q = T.rotation();

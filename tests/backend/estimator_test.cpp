@@ -1,0 +1,111 @@
+#include "backend/estimator.h"
+
+#include <gtest/gtest.h>
+
+#include "backend/graph_solver.h"
+#include "frontend/dynamic_object_classifier.h"
+#include "simulation/scenarios.h"
+
+namespace dslam {
+namespace {
+
+std::vector<FrameMeasurement> Labelled(const Sequence& seq) {
+  std::vector<FrameMeasurement> frames = seq.frames;
+  LabelDynamicObjects(ClassifierParams{}, seq.frame_rate_hz, &frames);
+  return frames;
+}
+
+double MeanStepTranslationError(const std::vector<SE3>& gt, const std::vector<SE3>& est) {
+  double sum = 0.0;
+  for (size_t k = 1; k < gt.size(); ++k)
+    sum += ((gt[k - 1].inverse() * gt[k]).inverse() * (est[k - 1].inverse() * est[k])).translation().norm();
+  return sum / static_cast<double>(gt.size() - 1);
+}
+
+TEST(Estimator, JointEstimateBeatsOdometryOnThePaperScene) {
+  ScenarioOptions opt;
+  opt.num_frames = 30;
+  const Sequence seq = MakeScenario("paper", opt);
+  BackendParams params;
+  params.default_mode = MotionMode::kConstant;
+  Estimator estimator(params, seq.frame_rate_hz);
+  std::vector<SE3> odometry_only = {SE3::Identity()};
+  for (const auto& f : Labelled(seq)) {
+    estimator.addFrame(f);
+    if (f.odometry) odometry_only.push_back(odometry_only.back() * f.odometry->T_prev_curr);
+  }
+  const Estimate est = estimator.finish();
+  ASSERT_EQ(est.T_world_camera.size(), seq.frames.size());
+  EXPECT_LT(MeanStepTranslationError(seq.gt.T_world_camera, est.T_world_camera),
+            0.6 * MeanStepTranslationError(seq.gt.T_world_camera, odometry_only));
+  // One constant H for the object: every transition reports the same motion.
+  ASSERT_EQ(est.object_motions.size(), seq.frames.size() - 1);
+  for (const auto& m : est.object_motions) EXPECT_TRUE(m.H_world.isApprox(est.object_motions.front().H_world, 1e-12));
+  const SE3& L0 = seq.gt.objects.at(1).L_world_object.at(0);
+  const SE3 H_gt = seq.gt.objects.at(1).L_world_object.at(1) * L0.inverse();
+  const SE3 error = (L0.inverse() * H_gt * L0).inverse() * (L0.inverse() * est.object_motions.front().H_world * L0);
+  EXPECT_LT(error.translation().norm(), 0.05);
+}
+
+TEST(Estimator, RejectsFramesOutOfSequence) {
+  Estimator estimator(BackendParams{}, 10.0);
+  FrameMeasurement f;
+  f.frame_index = 3;
+  EXPECT_THROW(estimator.addFrame(f), std::invalid_argument);
+  f.frame_index = 0;
+  f.static_points.push_back({1, Vec3(NAN, 0.0, 5.0)});
+  EXPECT_THROW(estimator.addFrame(f), std::invalid_argument);
+}
+
+TEST(Estimator, InvalidParametersAreRejectedAtConstruction) {
+  BackendParams p;
+  p.noise.motion_sigma_m = 0.0;
+  EXPECT_THROW(Estimator(p, 10.0), std::invalid_argument);
+  EXPECT_THROW(Estimator(BackendParams{}, 0.0), std::invalid_argument);
+}
+
+TEST(Estimator, StaticTransitionsShareVariablesAndDynamicOnesChainThem) {
+  ScenarioOptions opt;
+  opt.num_frames = 120;
+  const Sequence seq = MakeScenario("city", opt);
+  Estimator estimator(BackendParams{}, seq.frame_rate_hz);
+  for (const auto& f : Labelled(seq)) estimator.addFrame(f);
+  const FactorGraph& g = estimator.graph();
+  int static_transitions = 0, dynamic_transitions = 0;
+  for (const auto& tr : g.transitions) (tr.is_dynamic ? dynamic_transitions : static_transitions)++;
+  EXPECT_GT(static_transitions, 0);  // parked cars
+  EXPECT_GT(dynamic_transitions, 0);
+  // Schur elimination group: no factor may link two points of the first group.
+  for (const auto& frame : g.frames)
+    for (const auto& m : frame.point_motions)
+      EXPECT_FALSE(g.points[m.prev_point_var].eliminate_first && g.points[m.curr_point_var].eliminate_first);
+}
+
+TEST(GraphSolver, SlidingWindowProblemSizeDoesNotGrowWithSequenceLength) {
+  ScenarioOptions opt;
+  opt.num_frames = 400;
+  const Sequence seq = MakeScenario("city", opt);
+  const BackendParams params;
+  FactorGraph graph;
+  GraphBuilder builder(params, BuilderOptions{}, &graph);
+  const auto frames = Labelled(seq);
+  std::vector<int> sizes;
+  for (size_t k = 0; k < frames.size(); ++k) {
+    builder.addFrame(frames[k]);
+    if (k == 100 || k == 300) {
+      SolveOptions window;
+      window.first_frame = static_cast<int>(k) - 9;
+      window.last_frame = static_cast<int>(k);
+      window.max_iterations = 1;
+      window.history_frames = params.window_history_frames;
+      sizes.push_back(SolveGraph(params, window, &graph).num_residual_blocks);
+    }
+  }
+  ASSERT_EQ(sizes.size(), 2u);
+  EXPECT_GT(sizes[0], 0);
+  // Same kind of scene every 200 frames: frame 300 is frame 100 of the second cycle.
+  EXPECT_LT(std::abs(sizes[1] - sizes[0]), 0.25 * sizes[0]) << sizes[0] << " vs " << sizes[1];
+}
+
+}  // namespace
+}  // namespace dslam

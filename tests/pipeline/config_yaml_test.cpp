@@ -1,0 +1,70 @@
+#include "pipeline/config_yaml.h"
+
+#include <gtest/gtest.h>
+
+namespace dslam {
+namespace {
+
+TEST(ConfigYaml, RoundTripKeepsEveryValue) {
+  RunConfig c;
+  c.backend.default_mode = MotionMode::kSmoothed;
+  c.backend.slam_mot_mode = MotionMode::kConstant;
+  c.backend.schedule = {ScheduleKind::kSlidingWindow, 7};
+  c.backend.noise.point_sigma_m = 0.037;
+  c.backend.noise.motion_sigma_m = 0.0123;
+  c.backend.noise.huber_delta = 1.5;
+  c.backend.motion_ransac.inlier_threshold_m = 0.21;
+  c.backend.window_history_frames = 12;
+  c.backend.mode_per_object[4] = MotionMode::kConstant;
+  c.classifier.dynamic_speed_threshold_mps = 0.8;
+  const RunConfig back = ParseRunConfig(RunConfigToYaml(c));
+  EXPECT_EQ(back.backend.default_mode, MotionMode::kSmoothed);
+  EXPECT_EQ(back.backend.slam_mot_mode, MotionMode::kConstant);
+  EXPECT_EQ(back.backend.schedule.kind, ScheduleKind::kSlidingWindow);
+  EXPECT_EQ(back.backend.schedule.window_frames, 7);
+  EXPECT_EQ(back.backend.noise.point_sigma_m, 0.037);
+  EXPECT_EQ(back.backend.noise.motion_sigma_m, 0.0123);
+  EXPECT_EQ(back.backend.noise.huber_delta, 1.5);
+  EXPECT_EQ(back.backend.motion_ransac.inlier_threshold_m, 0.21);
+  EXPECT_EQ(back.backend.window_history_frames, 12);
+  EXPECT_EQ(back.backend.modeFor(4), MotionMode::kConstant);
+  EXPECT_EQ(back.classifier.dynamic_speed_threshold_mps, 0.8);
+  EXPECT_EQ(RunConfigToYaml(back), RunConfigToYaml(c));
+}
+
+TEST(ConfigYaml, ShippedDefaultFileEqualsBuiltInDefaults) {
+  const RunConfig file = LoadRunConfig(std::string(DSLAM_SOURCE_DIR) + "/config/default.yaml");
+  EXPECT_EQ(RunConfigToYaml(file), RunConfigToYaml(RunConfig{}));
+}
+
+TEST(ConfigYaml, EmptyDocumentGivesDefaults) {
+  EXPECT_EQ(RunConfigToYaml(ParseRunConfig("")), RunConfigToYaml(RunConfig{}));
+}
+
+void ExpectError(const std::string& yaml, const std::string& fragment) {
+  try {
+    ParseRunConfig(yaml, "test.yaml");
+    FAIL() << "expected an error for: " << yaml;
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("test.yaml"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ConfigYaml, BadInputIsAClearError) {
+  ExpectError("noise:\n  point_sigma_m: -0.02\n", "point_sigma_m");
+  ExpectError("backend:\n  motion_mode: wobbly\n", "motion_mode");
+  ExpectError("backend:\n  schedule: window:1\n", "schedule");
+  ExpectError("noise:\n  point_sigma: 0.02\n", "unknown key 'noise.point_sigma'");
+  ExpectError("solver:\n  x: 1\n", "unknown section 'solver'");
+  ExpectError("noise:\n  point_sigma_m: abc\n", "wrong type");
+  ExpectError("noise: [1, 2\n", "not valid YAML");
+  ExpectError("backend:\n  object_modes:\n    x: constant\n", "object_modes");
+}
+
+TEST(ConfigYaml, MissingFileIsAnError) {
+  EXPECT_THROW(LoadRunConfig("/nonexistent/dslam.yaml"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace dslam

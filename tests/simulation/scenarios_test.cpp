@@ -1,0 +1,126 @@
+#include "simulation/scenarios.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace dslam {
+namespace {
+
+TEST(Scenarios, DeterministicForASeedAndDifferentAcrossSeeds) {
+  ScenarioOptions opt;
+  opt.num_frames = 20;
+  const Sequence a = MakeScenario("paper", opt), b = MakeScenario("paper", opt);
+  opt.seed = 2;
+  const Sequence c = MakeScenario("paper", opt);
+  ASSERT_EQ(a.frames.size(), 20u);
+  EXPECT_EQ(a.frames[5].objects[0].points[3].p_camera, b.frames[5].objects[0].points[3].p_camera);
+  EXPECT_NE(a.frames[5].objects[0].points[3].p_camera, c.frames[5].objects[0].points[3].p_camera);
+}
+
+TEST(Scenarios, WorldIsTheFirstCameraFrame) {
+  for (const auto& name : ScenarioNames()) {
+    ScenarioOptions opt;
+    opt.num_frames = 10;
+    const Sequence seq = MakeScenario(name, opt);
+    EXPECT_TRUE(seq.gt.T_world_camera.front().isApprox(SE3::Identity(), 1e-12)) << name;
+  }
+}
+
+TEST(Scenarios, PaperObjectHasAConstantPoseChangeAndNoStaticStructure) {
+  const Sequence seq = MakeScenario("paper", ScenarioOptions{});
+  EXPECT_EQ(seq.frames.size(), 100u);
+  ASSERT_EQ(seq.gt.objects.size(), 1u);
+  const auto& L = seq.gt.objects.begin()->second.L_world_object;
+  const SE3 H1 = L.at(1) * L.at(0).inverse();
+  for (int k = 2; k < 100; ++k) EXPECT_TRUE((L.at(k) * L.at(k - 1).inverse()).isApprox(H1, 1e-9)) << k;
+  for (const auto& f : seq.frames) {
+    EXPECT_TRUE(f.static_points.empty());
+    ASSERT_EQ(f.objects.size(), 1u);  // always in view
+    EXPECT_GT(f.objects[0].points.size(), 50u);
+  }
+}
+
+TEST(Scenarios, MeasurementNoiseMatchesSigma) {
+  ScenarioOptions opt;
+  opt.num_frames = 30;
+  opt.noise.point_sigma_m = 0.04;
+  const Sequence seq = MakeScenario("city", opt);
+  double sum_sq = 0.0;
+  int n = 0;
+  for (const auto& f : seq.frames)
+    for (const auto& p : f.static_points) {
+      const Vec3 truth = seq.gt.T_world_camera[f.frame_index].inverse() * seq.gt.static_points_world.at(p.track_id);
+      sum_sq += (p.p_camera - truth).squaredNorm();
+      n += 3;
+    }
+  ASSERT_GT(n, 1000);
+  EXPECT_NEAR(std::sqrt(sum_sq / n), 0.04, 0.004);
+}
+
+TEST(Scenarios, OdometryNoiseIsFivePercentOfTheStep) {
+  const Sequence seq = MakeScenario("paper", ScenarioOptions{});
+  double sum_sq = 0.0, sum_step = 0.0;
+  int n = 0;
+  for (const auto& f : seq.frames) {
+    if (!f.odometry) continue;
+    const SE3 truth = seq.gt.T_world_camera[f.frame_index - 1].inverse() * seq.gt.T_world_camera[f.frame_index];
+    EXPECT_NEAR(f.odometry->sigma[0], 0.05 * truth.translation().norm(), 1e-9);
+    EXPECT_NEAR(f.odometry->sigma[3], 0.10 * truth.angle(), 1e-9);
+    sum_sq += (truth.inverse() * f.odometry->T_prev_curr).Log().head<3>().squaredNorm();
+    sum_step += truth.translation().norm();
+    n += 3;
+  }
+  const double mean_step = sum_step / (n / 3);
+  EXPECT_NEAR(std::sqrt(sum_sq / n), 0.05 * mean_step, 0.015 * mean_step);
+}
+
+TEST(Scenarios, CityHasTheScriptedBehaviours) {
+  const Sequence seq = MakeScenario("city", ScenarioOptions{});
+  ASSERT_EQ(seq.frames.size(), 200u);
+  const auto& gt = seq.gt.objects;
+  auto speed = [&](int id, int k) {
+    const auto& o = gt.at(id);
+    const Vec3 c0 = o.centroid_world.at(k - 1), c1 = o.centroid_world.at(k);
+    return (c1 - c0).norm() * seq.frame_rate_hz;
+  };
+  EXPECT_GT(speed(kCityAccelerating, 60), speed(kCityAccelerating, 10) + 2.0);
+  EXPECT_LT(speed(kCityBraking, 50), speed(kCityBraking, 5) - 4.0);
+  EXPECT_GT(speed(kCityStopping, 30), 5.0);
+  EXPECT_NEAR(speed(kCityStopping, 80), 0.0, 1e-9);
+  const auto& turner = gt.at(kCityTurning).L_world_object;
+  EXPECT_GT((turner.at(0).inverse() * turner.at(60)).angle(), 1.4);  // about 90 degrees
+  // The hidden car: seen, not seen for the occlusion, seen again, with the same id.
+  const auto& hidden = gt.at(kCityOccluded).observed_frames;
+  EXPECT_TRUE(hidden.count(kCityOcclusionBegin - 1));
+  for (int k = kCityOcclusionBegin; k < kCityOcclusionEnd; ++k) EXPECT_FALSE(hidden.count(k));
+  EXPECT_TRUE(hidden.count(kCityOcclusionEnd));
+  // The stopping car is still observed for a while after it stopped.
+  int parked_observed = 0;
+  for (int k : gt.at(kCityStopping).observed_frames) parked_observed += k >= 61 && speed(kCityStopping, k) == 0.0;
+  EXPECT_GE(parked_observed, 10);
+  // Parked cars line the street.
+  EXPECT_GE(std::count_if(gt.begin(), gt.end(), [](const auto& o) { return o.first >= kCityParkedIdBase; }), 10);
+}
+
+TEST(Scenarios, LongCityRunRepeatsItsCarsWithNewIds) {
+  ScenarioOptions opt;
+  opt.num_frames = 450;
+  const Sequence seq = MakeScenario("city", opt);
+  EXPECT_TRUE(seq.gt.objects.count(10 + kCityBraking));
+  EXPECT_TRUE(seq.gt.objects.count(20 + kCityTurning));
+  EXPECT_FALSE(seq.gt.objects.at(10 + kCityBraking).observed_frames.empty());
+}
+
+TEST(Scenarios, BadOptionsAreErrors) {
+  EXPECT_THROW(MakeScenario("highway", ScenarioOptions{}), std::invalid_argument);
+  ScenarioOptions opt;
+  opt.noise.point_sigma_m = -1.0;
+  EXPECT_THROW(MakeScenario("paper", opt), std::invalid_argument);
+  opt = ScenarioOptions{};
+  opt.num_frames = 1;
+  EXPECT_THROW(MakeScenario("paper", opt), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace dslam
