@@ -3,6 +3,7 @@
 
 #include <iostream>
 
+#include "app/kitti_replay_command.h"
 #include "app/sim_command.h"
 
 int main(int argc, char** argv) {
@@ -29,7 +30,31 @@ int main(int argc, char** argv) {
   sim_cmd->add_option("--out", sim.out_dir, "Output directory")->capture_default_str();
   sim_cmd->add_flag("--quiet", sim.quiet, "Print only errors");
 
+  dslam::KittiReplayCommandOptions replay;
+  CLI::App* replay_cmd = app.add_subcommand(
+      "kitti-replay",
+      "Replay a KITTI tracking sequence's real camera path and object boxes with synthetic measurements; run and "
+      "evaluate ours, static-only and SLAM+MOT");
+  replay_cmd->add_option("--data", replay.data_dir, "Dataset directory (KITTI layout or VDO-SLAM layout)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  replay_cmd->add_option("--seq", replay.sequence, "Sequence number, e.g. 0000")->required();
+  replay_cmd->add_option("--sigma", replay.sigma_m, "Point noise sigma per axis, metres (0.02, 0.04, 0.06)")
+      ->capture_default_str();
+  replay_cmd->add_option("--seed", replay.seed, "Random seed; runs are deterministic")->capture_default_str();
+  replay_cmd->add_option("--mode", replay.mode,
+                         std::string("Object motion model: per-step, constant or smoothed (default ") +
+                             dslam::kKittiReplayDefaultMode + ")");
+  replay_cmd->add_option("--schedule", replay.schedule, "Solver schedule: batch (default) or window:W");
+  replay_cmd->add_option("--category", replay.category,
+                         "Object category the metrics cover (VEHICLE, PEDESTRIAN, BICYCLE; empty = all)")
+      ->capture_default_str();
+  replay_cmd->add_option("--config", replay.config_path, "YAML run configuration")->check(CLI::ExistingFile);
+  replay_cmd->add_option("--out", replay.out_dir, "Output directory")->capture_default_str();
+  replay_cmd->add_flag("--quiet", replay.quiet, "Print only errors");
+
   CLI11_PARSE(app, argc, argv);
   if (sim_cmd->parsed()) return dslam::RunSimCommand(sim, std::cout, std::cerr);
+  if (replay_cmd->parsed()) return dslam::RunKittiReplayCommand(replay, std::cout, std::cerr);
   return 0;
 }

@@ -3,7 +3,6 @@
 #include <chrono>
 #include <exception>
 
-#include "pipeline/config_yaml.h"
 #include "pipeline/run_sequence.h"
 #include "simulation/scenarios.h"
 
@@ -12,12 +11,7 @@ namespace dslam {
 int RunSimCommand(const SimCommandOptions& options, std::ostream& out, std::ostream& err) {
   try {
     const auto start = std::chrono::steady_clock::now();
-    RunConfig config = options.config_path ? LoadRunConfig(*options.config_path) : RunConfig{};
-    config.backend.default_mode = ParseMotionMode(options.mode.value_or(ScenarioDefaultMotionMode(options.scenario)));
-    if (options.schedule) config.backend.schedule = ParseSchedule(*options.schedule);
-    if (!(options.sigma_m > 0.0)) throw std::invalid_argument("--sigma must be positive");
-    config.backend.noise.point_sigma_m = options.sigma_m;
-    config.validate();
+    const RunConfig config = BuildRunConfig(options, ScenarioDefaultMotionMode(options.scenario));
 
     ScenarioOptions scenario;
     scenario.seed = options.seed;
@@ -32,15 +26,9 @@ int RunSimCommand(const SimCommandOptions& options, std::ostream& out, std::ostr
     run.progress = options.quiet ? nullptr : &out;
     const MethodOutcomes outcomes = RunSequence(seq, config, run);
 
-    nlohmann::json info;
-    info["command"] = "sim";
+    nlohmann::json info = RunInfo("sim", options, config);
     info["scenario"] = options.scenario;
-    info["seed"] = options.seed;
     info["frames"] = seq.frames.size();
-    info["sigma_m"] = options.sigma_m;
-    info["mode"] = ToString(config.backend.default_mode);
-    info["schedule"] = ToString(config.backend.schedule);
-    info["config"] = options.config_path.value_or("");
     info["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     WriteRunOutputs(options.out_dir, seq, outcomes, info);
 

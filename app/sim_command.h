@@ -1,22 +1,16 @@
 #pragma once
 
-#include <cstdint>
-#include <optional>
 #include <ostream>
 #include <string>
 
+#include "app/run_setup.h"
+
 namespace dslam {
 
-struct SimCommandOptions {
+struct SimCommandOptions : CommonRunOptions {
+  SimCommandOptions() { out_dir = "results/sim"; }
   std::string scenario = "paper";
-  uint64_t seed = 1;
-  std::optional<std::string> mode;      // default: the scenario's own
-  std::optional<std::string> schedule;  // default: the configuration's (batch)
-  std::optional<std::string> config_path;
-  double sigma_m = 0.02;
   int frames = 0;  // 0: scenario default
-  std::string out_dir = "results/sim";
-  bool quiet = false;
 };
 
 // `dslam sim`: simulate, run all methods, write the result files and print the table.

@@ -74,6 +74,14 @@ Schedule ParseSchedule(const std::string& text) {
   return schedule;
 }
 
+LinearSolver ParseLinearSolver(const std::string& text) {
+  if (text == "cholesky") return LinearSolver::kCholesky;
+  if (text == "schur") return LinearSolver::kSchur;
+  throw std::invalid_argument("unknown linear solver '" + text + "' (expected cholesky or schur)");
+}
+
+std::string ToString(LinearSolver solver) { return solver == LinearSolver::kSchur ? "schur" : "cholesky"; }
+
 std::string ToString(const Schedule& schedule) {
   return schedule.kind == ScheduleKind::kBatch ? "batch" : "window:" + std::to_string(schedule.window_frames);
 }

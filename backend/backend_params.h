@@ -22,6 +22,9 @@ struct Schedule {
   int window_frames = 10;  // W, for the sliding window
 };
 
+// How the normal equations are solved; both eliminate the points before poses and motions.
+enum class LinearSolver { kCholesky, kSchur };
+
 struct NoiseParams {
   double point_sigma_m = 0.02;               // 3D measurement sigma per axis at zero depth
   double point_sigma_per_depth_sq = 0.0;     // added sigma per m^2 of depth (stereo / RGB-D)
@@ -47,6 +50,7 @@ struct BackendParams {
   int max_iterations_batch = 50;
   int max_iterations_window = 10;
   int num_threads = 1;  // 1 keeps results bit-for-bit repeatable
+  LinearSolver linear_solver = LinearSolver::kCholesky;
 
   MotionMode modeFor(int object_id) const;
   void validate() const;
@@ -58,5 +62,7 @@ std::string ToString(MotionMode mode);
 // "batch" or "window:W".
 Schedule ParseSchedule(const std::string& text);
 std::string ToString(const Schedule& schedule);
+LinearSolver ParseLinearSolver(const std::string& text);  // "cholesky" or "schur"
+std::string ToString(LinearSolver solver);
 
 }  // namespace dslam

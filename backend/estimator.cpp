@@ -34,7 +34,7 @@ void Estimator::addFrame(const FrameMeasurement& frame) {
   solve.num_threads = params_.num_threads;
   solve.fix_cameras = options_.fixed_T_world_camera != nullptr;
   solve.history_frames = params_.window_history_frames;
-  SolveGraph(params_, solve, &graph_);
+  solve_residual_blocks_.push_back(SolveGraph(params_, solve, &graph_).num_residual_blocks);
   solve_times_ms_.push_back(
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
 }

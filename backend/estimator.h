@@ -27,6 +27,8 @@ class Estimator {
 
   // Wall time of the solve that followed each frame (sliding window only), milliseconds.
   const std::vector<double>& solveTimesMs() const { return solve_times_ms_; }
+  // Size of each of those solves (residual blocks), the structural measure of its cost.
+  const std::vector<int>& solveResidualBlocks() const { return solve_residual_blocks_; }
   const FactorGraph& graph() const { return graph_; }
 
  private:
@@ -38,6 +40,7 @@ class Estimator {
   FactorGraph graph_;
   GraphBuilder builder_;
   std::vector<double> solve_times_ms_;
+  std::vector<int> solve_residual_blocks_;
 };
 
 }  // namespace dslam

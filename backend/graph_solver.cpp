@@ -91,16 +91,19 @@ SolveSummary SolveGraph(const BackendParams& params, const SolveOptions& options
   result.num_residual_blocks = problem.NumResidualBlocks();
   if (result.num_residual_blocks == 0) return result;
 
-  // Points first (Schur complement), then poses and motions.
+  // Points first, then poses and motions. Schur: the Schur complement of an independent set of
+  // points (alternate points along each track chain). Cholesky: one sparse factorisation of the whole
+  // system with every point ordered before the poses and motions (faster here; same solution).
+  const bool schur = params.linear_solver == LinearSolver::kSchur;
   auto* ordering = new ceres::ParameterBlockOrdering;
   for (int v : point_blocks)
-    ordering->AddElementToGroup(graph->points[v].p_world.data(), graph->points[v].eliminate_first ? 0 : 1);
+    ordering->AddElementToGroup(graph->points[v].p_world.data(), !schur || graph->points[v].eliminate_first ? 0 : 1);
   for (int k : camera_blocks) ordering->AddElementToGroup(graph->camera_poses[k].data(), 1);
   for (int m : motion_blocks) ordering->AddElementToGroup(graph->motions[m].H_world.data(), 1);
 
   ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = schur ? ceres::SPARSE_SCHUR : ceres::SPARSE_NORMAL_CHOLESKY;
   if (ordering->GroupSize(0) > 0) {
-    solver_options.linear_solver_type = ceres::SPARSE_SCHUR;
     solver_options.linear_solver_ordering.reset(ordering);
   } else {
     delete ordering;  // no point to eliminate (e.g. odometry only)

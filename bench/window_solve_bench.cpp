@@ -1,43 +1,57 @@
-// Per-frame cost of the sliding-window schedule on a long `city` run: prints the mean solve time
-// around frame 100 and around frame 1000. Constant cost means the two are about equal.
+// Per-frame cost of the sliding-window schedule on a long `city` run. The city repeats its traffic
+// every 200 frames, so the cost is compared over whole cycles: the cycle around frame 100 (frames
+// 0-199) and the one around frame 1000 (frames 900-1099). Constant cost: the two are about equal.
 // Usage: bench_window_solve [frames=1100] [window=10]
+#include <algorithm>
 #include <cstdlib>
 #include <iostream>
 #include <numeric>
 
-#include "backend/methods.h"
+#include "backend/estimator.h"
 #include "frontend/dynamic_object_classifier.h"
 #include "pipeline/run_config.h"
 #include "simulation/scenarios.h"
 
 namespace {
-double MeanAround(const std::vector<double>& v, int centre, int half_width) {
-  const int lo = std::max(0, centre - half_width), hi = std::min<int>(v.size(), centre + half_width);
-  if (hi <= lo) return 0.0;
-  return std::accumulate(v.begin() + lo, v.begin() + hi, 0.0) / (hi - lo);
+double Mean(const std::vector<double>& v, int from, int to) {
+  from = std::max(0, from);
+  to = std::min<int>(v.size(), to);
+  return to > from ? std::accumulate(v.begin() + from, v.begin() + to, 0.0) / (to - from) : 0.0;
 }
 }  // namespace
 
 int main(int argc, char** argv) {
   const int frames = argc > 1 ? std::atoi(argv[1]) : 1100;
   const int window = argc > 2 ? std::atoi(argv[2]) : 10;
-  if (frames < 120 || window < 2) {
-    std::cerr << "usage: bench_window_solve [frames >= 120] [window >= 2]\n";
+  if (frames < 200 || window < 2) {
+    std::cerr << "usage: bench_window_solve [frames >= 200] [window >= 2]\n";
     return 2;
   }
   dslam::ScenarioOptions scenario;
   scenario.num_frames = frames;
   const dslam::Sequence seq = dslam::MakeScenario("city", scenario);
   dslam::RunConfig config;
-  config.backend.schedule.kind = dslam::ScheduleKind::kSlidingWindow;
-  config.backend.schedule.window_frames = window;
+  config.backend.default_mode = dslam::MotionMode::kSmoothed;
+  config.backend.schedule = {dslam::ScheduleKind::kSlidingWindow, window};
   std::vector<dslam::FrameMeasurement> labelled = seq.frames;
   dslam::LabelDynamicObjects(config.classifier, seq.frame_rate_hz, &labelled);
-  const auto result = dslam::RunMethod(dslam::Method::kOurs, config.backend, seq.frame_rate_hz, labelled);
-  const auto& ms = result.solve_times_ms;
-  std::cout << "city, " << frames << " frames, window " << window << ", total " << result.wall_time_s << " s\n";
-  std::cout << "mean solve ms/frame around frame 100: " << MeanAround(ms, 100, 20) << "\n";
-  if (frames > 1020) std::cout << "mean solve ms/frame around frame 1000: " << MeanAround(ms, 1000, 20) << "\n";
-  std::cout << "mean solve ms/frame around the last frame: " << MeanAround(ms, frames - 21, 20) << "\n";
+  dslam::Estimator estimator(config.backend, seq.frame_rate_hz);
+  for (const auto& f : labelled) {
+    estimator.addFrame(f);
+    if ((f.frame_index + 1) % 100 == 0)
+      std::cerr << "frame " << f.frame_index + 1 << "/" << frames << ": " << estimator.solveTimesMs().back()
+                << " ms\n";
+  }
+  const auto& ms = estimator.solveTimesMs();
+  const auto& blocks = estimator.solveResidualBlocks();
+  std::vector<double> sizes(blocks.begin(), blocks.end());
+  std::cout << "city, " << frames << " frames, window " << window << " (smoothed motion, one thread)\n";
+  std::cout << "frames    0-199: mean solve " << Mean(ms, 0, 200) << " ms/frame, " << Mean(sizes, 0, 200)
+            << " residual blocks/window\n";
+  if (frames >= 1100)
+    std::cout << "frames  900-1099: mean solve " << Mean(ms, 900, 1100) << " ms/frame, " << Mean(sizes, 900, 1100)
+              << " residual blocks/window\n";
+  std::cout << "frame 100: " << ms[100] << " ms; frame " << std::min(1000, frames - 1) << ": "
+            << ms[std::min(1000, frames - 1)] << " ms\n";
   return 0;
 }

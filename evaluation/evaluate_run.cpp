@@ -5,11 +5,12 @@
 
 namespace dslam {
 
-std::vector<ObjectPairSample> BuildObjectSamples(const Sequence& seq, const Estimate& est) {
+std::vector<ObjectPairSample> BuildObjectSamples(const Sequence& seq, const Estimate& est, const std::string& category) {
   std::map<std::pair<int, int>, const ObjectMotionEstimate*> by_key;
   for (const auto& m : est.object_motions) by_key[{m.object_id, m.frame}] = &m;
   std::vector<ObjectPairSample> samples;
   for (const auto& [id, obj] : seq.gt.objects) {
+    if (!category.empty() && obj.category != category) continue;
     for (int k : obj.observed_frames) {
       if (!obj.observed_frames.count(k - 1)) continue;
       ObjectPairSample s;
@@ -33,7 +34,8 @@ std::vector<ObjectPairSample> BuildObjectSamples(const Sequence& seq, const Esti
   return samples;
 }
 
-MethodMetrics EvaluateEstimate(const Sequence& seq, const Estimate& est, bool estimates_objects) {
+MethodMetrics EvaluateEstimate(const Sequence& seq, const Estimate& est, bool estimates_objects,
+                               const std::string& category) {
   MethodMetrics m;
   m.camera = ComputeCameraMetrics(seq.gt.T_world_camera, est.T_world_camera);
   std::vector<std::pair<Vec3, Vec3>> structure;
@@ -45,7 +47,7 @@ MethodMetrics EvaluateEstimate(const Sequence& seq, const Estimate& est, bool es
                            seq.gt.T_world_camera[p.frame].inverse() * p_gt_world);
   }
   m.rse_pct = ComputeRsePct(structure);
-  if (estimates_objects) m.objects = ComputeObjectMetrics(BuildObjectSamples(seq, est));
+  if (estimates_objects) m.objects = ComputeObjectMetrics(BuildObjectSamples(seq, est, category));
   return m;
 }
 

@@ -1,5 +1,8 @@
 #include "frontend/dynamic_object_classifier.h"
 
+#include <cmath>
+#include <limits>
+#include <map>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -19,11 +22,24 @@ void MatchTracks(const std::vector<PointObservation>& prev, const std::vector<Po
     curr_pts->push_back(c.p_camera);
   }
 }
+// Floor of a displacement's standard deviation: unmodelled effects (and exact synthetic data).
+constexpr double kMinDisplacementSigmaM = 1e-3;
+
+double RmsSpread(const std::vector<Vec3>& pts) {
+  Vec3 mean = Vec3::Zero();
+  for (const auto& p : pts) mean += p;
+  mean /= static_cast<double>(pts.size());
+  double sum_sq = 0.0;
+  for (const auto& p : pts) sum_sq += (p - mean).squaredNorm();
+  return std::sqrt(sum_sq / static_cast<double>(pts.size()));
+}
 }  // namespace
 
 void ClassifierParams::validate() const {
   if (!(dynamic_speed_threshold_mps > 0.0))
     throw std::invalid_argument("classifier.dynamic_speed_threshold_mps must be positive");
+  if (!(static_test_chi2 > 0.0)) throw std::invalid_argument("classifier.static_test_chi2 must be positive");
+  if (min_static_transitions < 1) throw std::invalid_argument("classifier.min_static_transitions must be >= 1");
   if (min_static_inliers < 3) throw std::invalid_argument("classifier.min_static_inliers must be >= 3");
 }
 
@@ -32,48 +48,85 @@ DynamicObjectClassifier::DynamicObjectClassifier(const ClassifierParams& params,
   params_.validate();
 }
 
-SE3 DynamicObjectClassifier::cameraMotion(const FrameMeasurement& prev, const FrameMeasurement& curr) const {
+CameraMotionEstimate DynamicObjectClassifier::cameraMotion(const FrameMeasurement& prev,
+                                                          const FrameMeasurement& curr) const {
   std::vector<Vec3> prev_pts, curr_pts;
   MatchTracks(prev.static_points, curr.static_points, &prev_pts, &curr_pts);
   if (static_cast<int>(prev_pts.size()) >= params_.min_static_inliers) {
     // z_prev = T_prev_curr * z_curr for static points.
     const auto fit = AlignRigidRansac(curr_pts, prev_pts, params_.static_ransac);
-    if (fit && fit->num_inliers >= params_.min_static_inliers) return fit->transform;
-  }
-  return curr.odometry ? curr.odometry->T_prev_curr : SE3::Identity();
-}
-
-double DynamicObjectClassifier::objectSpeedMps(const ObjectObservation& prev, const ObjectObservation& curr,
-                                               const SE3& T_prev_curr) const {
-  std::vector<Vec3> prev_pts, curr_pts;
-  MatchTracks(prev.points, curr.points, &prev_pts, &curr_pts);
-  for (auto& p : curr_pts) p = T_prev_curr * p;  // into camera k-1: what remains is the object's own motion
-  const auto fit = AlignRigidRansac(prev_pts, curr_pts, params_.object_ransac);
-  if (!fit) return -1.0;
-  Vec3 centroid = Vec3::Zero();
-  for (size_t i = 0; i < prev_pts.size(); ++i)
-    if (fit->is_inlier[i]) centroid += prev_pts[i];
-  centroid /= static_cast<double>(fit->num_inliers);
-  return SpeedMps(ObjectVelocityPerFrame(fit->transform, centroid), frame_rate_hz_);
-}
-
-void DynamicObjectClassifier::label(const FrameMeasurement& prev, FrameMeasurement* curr) const {
-  const SE3 T_prev_curr = cameraMotion(prev, *curr);
-  for (auto& obj : curr->objects) {
-    obj.is_dynamic = true;
-    for (const auto& before : prev.objects) {
-      if (before.object_id != obj.object_id) continue;
-      const double speed = objectSpeedMps(before, obj, T_prev_curr);
-      if (speed >= 0.0) obj.is_dynamic = speed >= params_.dynamic_speed_threshold_mps;
+    if (fit && fit->num_inliers >= params_.min_static_inliers) {
+      std::vector<Vec3> inliers;
+      double sum_sq = 0.0;
+      for (size_t i = 0; i < prev_pts.size(); ++i) {
+        if (!fit->is_inlier[i]) continue;
+        sum_sq += (prev_pts[i] - fit->transform * curr_pts[i]).squaredNorm();
+        inliers.push_back(prev_pts[i]);
+      }
+      const double n = static_cast<double>(inliers.size());
+      const double sigma = std::sqrt(sum_sq / std::max(1.0, 3.0 * n - 6.0));
+      return {fit->transform, true, sigma / std::sqrt(n), sigma / (std::sqrt(n) * std::max(0.1, RmsSpread(inliers)))};
     }
   }
+  if (curr.odometry) return {curr.odometry->T_prev_curr, false, curr.odometry->sigma.head<3>().norm() / std::sqrt(3.0),
+                             curr.odometry->sigma.tail<3>().norm() / std::sqrt(3.0)};
+  // Nothing tells the camera motion: assume still, and let only the speed threshold decide.
+  return {SE3::Identity(), false, std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+}
+
+std::optional<ObjectMotionTest> DynamicObjectClassifier::testObjectMotion(const ObjectObservation& prev,
+                                                                          const ObjectObservation& curr,
+                                                                          const CameraMotionEstimate& camera) const {
+  std::vector<Vec3> prev_pts, curr_pts;
+  MatchTracks(prev.points, curr.points, &prev_pts, &curr_pts);
+  for (auto& p : curr_pts) p = camera.T_prev_curr * p;  // into camera k-1: what remains is the object's own motion
+  const auto fit = AlignRigidRansac(prev_pts, curr_pts, params_.object_ransac);
+  if (!fit) return std::nullopt;
+  Vec3 centroid = Vec3::Zero();
+  double sum_sq = 0.0;
+  for (size_t i = 0; i < prev_pts.size(); ++i) {
+    if (!fit->is_inlier[i]) continue;
+    centroid += prev_pts[i];
+    sum_sq += (curr_pts[i] - fit->transform * prev_pts[i]).squaredNorm();
+  }
+  const double n = static_cast<double>(fit->num_inliers);
+  centroid /= n;
+  ObjectMotionTest test;
+  const Vec3 displacement = ObjectVelocityPerFrame(fit->transform, centroid);
+  test.speed_mps = SpeedMps(displacement, frame_rate_hz_);
+  // Per-axis variance of the centroid displacement if the object were static: the object's own
+  // point noise (from the fit's residuals) plus the camera motion's uncertainty at that distance.
+  const double sigma_points_sq = sum_sq / std::max(1.0, 3.0 * n - 6.0) / n;
+  const double camera_sq = std::pow(camera.translation_sigma_m, 2) + std::pow(camera.rotation_sigma_rad * centroid.norm(), 2);
+  const double variance = sigma_points_sq + camera_sq + kMinDisplacementSigmaM * kMinDisplacementSigmaM;
+  test.chi2 = std::isfinite(variance) && variance > 0.0 ? displacement.squaredNorm() / variance : 0.0;
+  test.significant = test.chi2 > params_.static_test_chi2;
+  return test;
+}
+
+void DynamicObjectClassifier::label(const FrameMeasurement& prev, FrameMeasurement* curr) {
+  const CameraMotionEstimate camera = cameraMotion(prev, *curr);
+  std::map<int, int> streaks;
+  for (auto& obj : curr->objects) {
+    bool still = false;
+    for (const auto& before : prev.objects) {
+      if (before.object_id != obj.object_id) continue;
+      const auto test = testObjectMotion(before, obj, camera);
+      still = test && test->speed_mps < params_.dynamic_speed_threshold_mps && !test->significant;
+    }
+    const auto it = static_streak_.find(obj.object_id);
+    const int streak = still ? (it == static_streak_.end() ? 0 : it->second) + 1 : 0;
+    streaks[obj.object_id] = streak;
+    obj.is_dynamic = streak < params_.min_static_transitions;
+  }
+  static_streak_ = std::move(streaks);  // objects not seen in this frame start over
 }
 
 }  // namespace dslam
 
 namespace dslam {
 void LabelDynamicObjects(const ClassifierParams& params, double frame_rate_hz, std::vector<FrameMeasurement>* frames) {
-  const DynamicObjectClassifier classifier(params, frame_rate_hz);
+  DynamicObjectClassifier classifier(params, frame_rate_hz);
   for (size_t k = 1; k < frames->size(); ++k) classifier.label((*frames)[k - 1], &(*frames)[k]);
 }
 }  // namespace dslam

@@ -68,7 +68,10 @@ const Schema& GetSchema() {
         {"window_history_frames", Field<int>([](RunConfig& c) -> int& { return c.backend.window_history_frames; })},
         {"max_iterations_batch", Field<int>([](RunConfig& c) -> int& { return c.backend.max_iterations_batch; })},
         {"max_iterations_window", Field<int>([](RunConfig& c) -> int& { return c.backend.max_iterations_window; })},
-        {"num_threads", Field<int>([](RunConfig& c) -> int& { return c.backend.num_threads; })}}},
+        {"num_threads", Field<int>([](RunConfig& c) -> int& { return c.backend.num_threads; })},
+        {"linear_solver",
+         {[](const YAML::Node& n, RunConfig& c) { c.backend.linear_solver = ParseLinearSolver(n.as<std::string>()); },
+          [](YAML::Emitter& e, const RunConfig& c) { e << ToString(c.backend.linear_solver); }}}}},
       {"noise",
        {{"point_sigma_m", Field<double>([](RunConfig& c) -> double& { return c.backend.noise.point_sigma_m; })},
         {"point_sigma_per_depth_sq",
@@ -88,6 +91,9 @@ const Schema& GetSchema() {
       {"classifier",
        {{"dynamic_speed_threshold_mps",
          Field<double>([](RunConfig& c) -> double& { return c.classifier.dynamic_speed_threshold_mps; })},
+        {"static_test_chi2", Field<double>([](RunConfig& c) -> double& { return c.classifier.static_test_chi2; })},
+        {"min_static_transitions",
+         Field<int>([](RunConfig& c) -> int& { return c.classifier.min_static_transitions; })},
         {"min_static_inliers", Field<int>([](RunConfig& c) -> int& { return c.classifier.min_static_inliers; })}}},
   };
   return schema;

@@ -19,7 +19,8 @@ MethodOutcomes RunSequence(const Sequence& seq, const RunConfig& config, const R
     }
     MethodOutcome outcome;
     outcome.result = RunMethod(method, config.backend, seq.frame_rate_hz, frames, progress);
-    outcome.metrics = EvaluateEstimate(seq, outcome.result.estimate, method != Method::kStaticOnly);
+    outcome.metrics = EvaluateEstimate(seq, outcome.result.estimate, method != Method::kStaticOnly,
+                                       options.object_category);
     outcomes[method] = std::move(outcome);
   }
   return outcomes;

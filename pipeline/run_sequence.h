@@ -13,6 +13,7 @@ namespace dslam {
 struct RunSequenceOptions {
   std::vector<Method> methods = {Method::kOurs, Method::kStaticOnly, Method::kSlamMot};
   std::ostream* progress = nullptr;  // progress lines on long runs; nullptr = quiet
+  std::string object_category;       // object metrics over this category only (empty: all)
 };
 
 MethodOutcomes RunSequence(const Sequence& seq, const RunConfig& config, const RunSequenceOptions& options = {});

@@ -35,7 +35,7 @@ SimWorld PaperWorld(int frames) {
     const GroundPose o{centre.x() - object_radius * std::cos(oa), object_radius * std::sin(oa), oa};
     // Ellipsoid body frame: centre at the origin, long axis along the heading.
     const SE3 L = VehiclePoseOnGround(o, centre_y);
-    obj.L_world_object.push_back(L);
+    obj.L_world_object[k] = L;
   }
   world.objects.push_back(std::move(obj));
   return world;
@@ -57,9 +57,7 @@ SimObject CityCar(int id, const GroundPose& start, const std::function<SpeedComm
   car.surface = SampleBox(l, w, h, 0.45);
   car.centroid_body = Vec3(0.0, -h / 2.0, 0.0);
   const auto path = IntegrateUnicycle(start, command, frames - cycle_start, kFps);
-  // Before its cycle the car waits at its start, out of the way (it is out of range then anyway).
-  for (int k = 0; k < frames; ++k)
-    car.L_world_object.push_back(VehiclePoseOnGround(k < cycle_start ? start : path[k - cycle_start], kGroundY));
+  for (int k = cycle_start; k < frames; ++k) car.L_world_object[k] = VehiclePoseOnGround(path[k - cycle_start], kGroundY);
   return car;
 }
 

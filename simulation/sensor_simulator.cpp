@@ -45,8 +45,10 @@ Sequence SimulateSensor(const SimWorld& world, const SensorModel& sensor, const 
   const int num_frames = static_cast<int>(world.T_world_camera.size());
   if (num_frames < 2) throw std::invalid_argument("a simulated sequence needs at least 2 frames");
   for (const auto& obj : world.objects)
-    if (static_cast<int>(obj.L_world_object.size()) != num_frames)
-      throw std::invalid_argument("object " + std::to_string(obj.object_id) + " has no pose for every frame");
+    for (const auto& [k, L] : obj.L_world_object)
+      if (k < 0 || k >= num_frames)
+        throw std::invalid_argument("object " + std::to_string(obj.object_id) + " has a pose for frame " +
+                                    std::to_string(k) + " outside the sequence");
 
   std::mt19937_64 rng(seed);
   // World = the first camera frame.
@@ -64,8 +66,8 @@ Sequence SimulateSensor(const SimWorld& world, const SensorModel& sensor, const 
     ObjectGroundTruth& o = gt.objects[obj.object_id];
     o.object_id = obj.object_id;
     o.category = obj.category;
-    for (int k = 0; k < num_frames; ++k) {
-      o.L_world_object[k] = T_new_old * obj.L_world_object[k];
+    for (const auto& [k, L] : obj.L_world_object) {
+      o.L_world_object[k] = T_new_old * L;
       o.centroid_world[k] = o.L_world_object[k] * obj.centroid_body;
     }
     for (size_t i = 0; i < obj.surface.size(); ++i)
@@ -89,7 +91,7 @@ Sequence SimulateSensor(const SimWorld& world, const SensorModel& sensor, const 
     for (size_t j = 0; j < world.objects.size(); ++j) {
       const SimObject& obj = world.objects[j];
       ObjectGroundTruth& o = gt.objects[obj.object_id];
-      if (obj.occluded_frames.count(k)) continue;
+      if (obj.occluded_frames.count(k) || !o.L_world_object.count(k)) continue;
       if ((T_camera_world * o.centroid_world[k]).norm() >= sensor.object_max_range_m) continue;
       const SE3 T_camera_object = T_camera_world * o.L_world_object[k];
       const Vec3 camera_in_object = T_camera_object.inverse().translation();

@@ -3,6 +3,7 @@
 // (3D points in the camera frame, odometry increments) plus ground truth, as DESIGN.md §5 describes.
 
 #include <cstdint>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -40,7 +41,7 @@ struct SimObject {
   std::string category = "VEHICLE";
   std::vector<SurfacePoint> surface;
   Vec3 centroid_body = Vec3::Zero();
-  std::vector<SE3> L_world_object;  // one pose per frame
+  std::map<int, SE3> L_world_object;  // pose per frame in which the object exists
   std::set<int> occluded_frames;    // frames in which something hides it completely
 };
 

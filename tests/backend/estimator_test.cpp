@@ -47,6 +47,27 @@ TEST(Estimator, JointEstimateBeatsOdometryOnThePaperScene) {
   EXPECT_LT(error.translation().norm(), 0.05);
 }
 
+TEST(Estimator, SchurAndCholeskyReachTheSameSolution) {
+  ScenarioOptions opt;
+  opt.num_frames = 40;
+  const Sequence seq = MakeScenario("city", opt);
+  const auto frames = Labelled(seq);
+  std::vector<Estimate> results;
+  for (LinearSolver solver : {LinearSolver::kCholesky, LinearSolver::kSchur}) {
+    BackendParams params;
+    params.linear_solver = solver;
+    params.default_mode = MotionMode::kSmoothed;
+    Estimator estimator(params, seq.frame_rate_hz);
+    for (const auto& f : frames) estimator.addFrame(f);
+    results.push_back(estimator.finish());
+  }
+  for (size_t k = 0; k < frames.size(); ++k)
+    EXPECT_TRUE(results[0].T_world_camera[k].isApprox(results[1].T_world_camera[k], 1e-5)) << k;
+  ASSERT_EQ(results[0].object_motions.size(), results[1].object_motions.size());
+  for (size_t i = 0; i < results[0].object_motions.size(); ++i)
+    EXPECT_TRUE(results[0].object_motions[i].H_world.isApprox(results[1].object_motions[i].H_world, 1e-5)) << i;
+}
+
 TEST(Estimator, RejectsFramesOutOfSequence) {
   Estimator estimator(BackendParams{}, 10.0);
   FrameMeasurement f;

@@ -42,14 +42,38 @@ TwoFrames MakeFrames(const SE3& object_motion_world, bool with_static, bool with
   return f;
 }
 
+// Decide on a single transition (the default waits for two consecutive still ones).
+ClassifierParams OneStep() {
+  ClassifierParams p;
+  p.min_static_transitions = 1;
+  return p;
+}
+
+TEST(DynamicObjectClassifier, StaticOnlyAfterConsecutiveStillTransitions) {
+  DynamicObjectClassifier c(ClassifierParams{}, 10.0);  // two still transitions needed
+  TwoFrames a = MakeFrames(SE3::Identity(), true, false);
+  c.label(a.prev, &a.curr);
+  EXPECT_TRUE(a.curr.objects[0].is_dynamic);
+  TwoFrames b = MakeFrames(SE3::Identity(), true, false);
+  c.label(b.prev, &b.curr);
+  EXPECT_FALSE(b.curr.objects[0].is_dynamic);
+  // A moving transition resets the count.
+  TwoFrames moving = MakeFrames(SE3(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, 0.3)), true, false);
+  c.label(moving.prev, &moving.curr);
+  EXPECT_TRUE(moving.curr.objects[0].is_dynamic);
+  TwoFrames again = MakeFrames(SE3::Identity(), true, false);
+  c.label(again.prev, &again.curr);
+  EXPECT_TRUE(again.curr.objects[0].is_dynamic);
+}
+
 TEST(DynamicObjectClassifier, CameraMotionFromStaticPoints) {
   TwoFrames f = MakeFrames(SE3::Identity(), true, false);
-  const DynamicObjectClassifier c(ClassifierParams{}, 10.0);
-  EXPECT_TRUE(c.cameraMotion(f.prev, f.curr).isApprox(f.T_prev_curr, 1e-6));
+  DynamicObjectClassifier c(OneStep(), 10.0);
+  EXPECT_TRUE(c.cameraMotion(f.prev, f.curr).T_prev_curr.isApprox(f.T_prev_curr, 1e-6));
 }
 
 TEST(DynamicObjectClassifier, ParkedObjectIsStaticMovingObjectIsDynamic) {
-  const DynamicObjectClassifier c(ClassifierParams{}, 10.0);
+  DynamicObjectClassifier c(OneStep(), 10.0);
   TwoFrames parked = MakeFrames(SE3::Identity(), true, false);
   c.label(parked.prev, &parked.curr);
   EXPECT_FALSE(parked.curr.objects[0].is_dynamic);
@@ -58,11 +82,41 @@ TEST(DynamicObjectClassifier, ParkedObjectIsStaticMovingObjectIsDynamic) {
   TwoFrames moving = MakeFrames(SE3(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, 0.3)), true, false);
   c.label(moving.prev, &moving.curr);
   EXPECT_TRUE(moving.curr.objects[0].is_dynamic);
-  EXPECT_NEAR(c.objectSpeedMps(moving.prev.objects[0], moving.curr.objects[0], moving.T_prev_curr), 3.0, 1e-6);
+  const auto test = c.testObjectMotion(moving.prev.objects[0], moving.curr.objects[0], c.cameraMotion(moving.prev, moving.curr));
+  ASSERT_TRUE(test);
+  EXPECT_NEAR(test->speed_mps, 3.0, 1e-6);
+}
+
+void AddNoise(FrameMeasurement* f, double sigma, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> n(0.0, sigma);
+  for (auto& p : f->static_points) p.p_camera += Vec3(n(rng), n(rng), n(rng));
+  for (auto& o : f->objects)
+    for (auto& p : o.points) p.p_camera += Vec3(n(rng), n(rng), n(rng));
+}
+
+TEST(DynamicObjectClassifier, SignificantSmallMotionIsDynamicNoiseAloneIsNot) {
+  DynamicObjectClassifier c(OneStep(), 10.0);
+  // 3 cm in a frame (0.3 m/s, under the speed threshold) seen through 5 mm point noise: significant.
+  TwoFrames jitter = MakeFrames(SE3(Eigen::Quaterniond::Identity(), Vec3(0.03, 0.0, 0.0)), true, false);
+  AddNoise(&jitter.prev, 0.005, 1);
+  AddNoise(&jitter.curr, 0.005, 2);
+  c.label(jitter.prev, &jitter.curr);
+  EXPECT_TRUE(jitter.curr.objects[0].is_dynamic);
+  // The same noise on a parked object: not significant, static.
+  int static_count = 0;
+  for (uint64_t seed = 0; seed < 20; ++seed) {
+    TwoFrames parked = MakeFrames(SE3::Identity(), true, false);
+    AddNoise(&parked.prev, 0.005, 10 + 2 * seed);
+    AddNoise(&parked.curr, 0.005, 11 + 2 * seed);
+    c.label(parked.prev, &parked.curr);
+    static_count += !parked.curr.objects[0].is_dynamic;
+  }
+  EXPECT_GE(static_count, 19);
 }
 
 TEST(DynamicObjectClassifier, FallsBackToOdometryWithoutStaticPoints) {
-  const DynamicObjectClassifier c(ClassifierParams{}, 10.0);
+  DynamicObjectClassifier c(OneStep(), 10.0);
   TwoFrames parked = MakeFrames(SE3::Identity(), false, true);
   c.label(parked.prev, &parked.curr);
   EXPECT_FALSE(parked.curr.objects[0].is_dynamic);
@@ -73,7 +127,7 @@ TEST(DynamicObjectClassifier, FallsBackToOdometryWithoutStaticPoints) {
 }
 
 TEST(DynamicObjectClassifier, NewObjectStaysDynamic) {
-  const DynamicObjectClassifier c(ClassifierParams{}, 10.0);
+  DynamicObjectClassifier c(OneStep(), 10.0);
   TwoFrames f = MakeFrames(SE3::Identity(), true, false);
   f.curr.objects[0].object_id = 99;  // not in the previous frame
   f.curr.objects[0].is_dynamic = false;
@@ -84,6 +138,9 @@ TEST(DynamicObjectClassifier, NewObjectStaysDynamic) {
 TEST(DynamicObjectClassifier, RejectsBadParameters) {
   ClassifierParams p;
   p.dynamic_speed_threshold_mps = -1.0;
+  EXPECT_THROW(DynamicObjectClassifier(p, 10.0), std::invalid_argument);
+  p = ClassifierParams{};
+  p.min_static_transitions = 0;
   EXPECT_THROW(DynamicObjectClassifier(p, 10.0), std::invalid_argument);
 }
 

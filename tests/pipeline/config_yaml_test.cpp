@@ -17,6 +17,8 @@ TEST(ConfigYaml, RoundTripKeepsEveryValue) {
   c.backend.window_history_frames = 12;
   c.backend.mode_per_object[4] = MotionMode::kConstant;
   c.classifier.dynamic_speed_threshold_mps = 0.8;
+  c.classifier.min_static_transitions = 3;
+  c.backend.linear_solver = LinearSolver::kSchur;
   const RunConfig back = ParseRunConfig(RunConfigToYaml(c));
   EXPECT_EQ(back.backend.default_mode, MotionMode::kSmoothed);
   EXPECT_EQ(back.backend.slam_mot_mode, MotionMode::kConstant);
@@ -29,6 +31,8 @@ TEST(ConfigYaml, RoundTripKeepsEveryValue) {
   EXPECT_EQ(back.backend.window_history_frames, 12);
   EXPECT_EQ(back.backend.modeFor(4), MotionMode::kConstant);
   EXPECT_EQ(back.classifier.dynamic_speed_threshold_mps, 0.8);
+  EXPECT_EQ(back.classifier.min_static_transitions, 3);
+  EXPECT_EQ(back.backend.linear_solver, LinearSolver::kSchur);
   EXPECT_EQ(RunConfigToYaml(back), RunConfigToYaml(c));
 }
 
@@ -59,6 +63,7 @@ TEST(ConfigYaml, BadInputIsAClearError) {
   ExpectError("solver:\n  x: 1\n", "unknown section 'solver'");
   ExpectError("noise:\n  point_sigma_m: abc\n", "wrong type");
   ExpectError("noise: [1, 2\n", "not valid YAML");
+  ExpectError("backend:\n  linear_solver: qr\n", "unknown linear solver 'qr'");
   ExpectError("backend:\n  object_modes:\n    x: constant\n", "object_modes");
 }
 

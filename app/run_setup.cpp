@@ -1,0 +1,30 @@
+#include "app/run_setup.h"
+
+#include <stdexcept>
+
+#include "pipeline/config_yaml.h"
+
+namespace dslam {
+
+RunConfig BuildRunConfig(const CommonRunOptions& options, const std::string& default_mode) {
+  RunConfig config = options.config_path ? LoadRunConfig(*options.config_path) : RunConfig{};
+  config.backend.default_mode = ParseMotionMode(options.mode.value_or(default_mode));
+  if (options.schedule) config.backend.schedule = ParseSchedule(*options.schedule);
+  if (!(options.sigma_m > 0.0)) throw std::invalid_argument("--sigma must be positive");
+  config.backend.noise.point_sigma_m = options.sigma_m;
+  config.validate();
+  return config;
+}
+
+nlohmann::json RunInfo(const std::string& command, const CommonRunOptions& options, const RunConfig& config) {
+  nlohmann::json info;
+  info["command"] = command;
+  info["seed"] = options.seed;
+  info["sigma_m"] = options.sigma_m;
+  info["mode"] = ToString(config.backend.default_mode);
+  info["schedule"] = ToString(config.backend.schedule);
+  info["config"] = options.config_path.value_or("");
+  return info;
+}
+
+}  // namespace dslam

@@ -1,0 +1,33 @@
+#pragma once
+// What every run command shares: the run configuration from --config and the command-line
+// overrides, and the writing of results with the console tables.
+
+#include <optional>
+#include <ostream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "output/run_report.h"
+#include "pipeline/run_config.h"
+
+namespace dslam {
+
+struct CommonRunOptions {
+  std::optional<std::string> config_path;
+  std::optional<std::string> mode;      // overrides the configuration's motion model
+  std::optional<std::string> schedule;  // overrides the configuration's schedule
+  double sigma_m = 0.02;                // point noise: simulated and assumed by the back-end
+  uint64_t seed = 1;
+  std::string out_dir;
+  bool quiet = false;
+};
+
+// Configuration file (or defaults), then `default_mode` unless --mode, then --schedule and --sigma.
+// Throws std::invalid_argument with a message naming the bad option.
+RunConfig BuildRunConfig(const CommonRunOptions& options, const std::string& default_mode);
+
+// Fills the parameters every run records in metrics.json's "run" object.
+nlohmann::json RunInfo(const std::string& command, const CommonRunOptions& options, const RunConfig& config);
+
+}  // namespace dslam

@@ -1,0 +1,53 @@
+#include "data/dense_maps.h"
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <stdexcept>
+
+#include "data/text_parsing.h"
+
+namespace dslam {
+
+FlowField ReadFlo(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot open " + path);
+  float magic = 0.0f;
+  int32_t w = 0, h = 0;
+  in.read(reinterpret_cast<char*>(&magic), 4);
+  in.read(reinterpret_cast<char*>(&w), 4);
+  in.read(reinterpret_cast<char*>(&h), 4);
+  if (!in) throw std::runtime_error(path + ": truncated .flo header");
+  if (magic != 202021.25f) throw std::runtime_error(path + ": not a .flo file (bad magic number)");
+  if (w <= 0 || h <= 0 || w > 100000 || h > 100000)
+    throw std::runtime_error(path + ": implausible size " + std::to_string(w) + "x" + std::to_string(h));
+  FlowField flow;
+  flow.width = w;
+  flow.height = h;
+  flow.uv.resize(static_cast<size_t>(w) * h * 2);
+  in.read(reinterpret_cast<char*>(flow.uv.data()), static_cast<std::streamsize>(flow.uv.size() * sizeof(float)));
+  if (in.gcount() != static_cast<std::streamsize>(flow.uv.size() * sizeof(float)))
+    throw std::runtime_error(path + ": truncated: expected " + std::to_string(flow.uv.size() * sizeof(float)) +
+                             " bytes of flow after the header");
+  return flow;
+}
+
+InstanceMask ReadSemanticTxt(const std::string& path) {
+  std::ifstream in = OpenText(path);
+  InstanceMask mask;
+  std::string line;
+  for (int line_no = 1; std::getline(in, line); ++line_no) {
+    const auto fields = SplitFields(line);
+    if (fields.empty()) continue;
+    if (mask.width == 0) mask.width = static_cast<int>(fields.size());
+    if (static_cast<int>(fields.size()) != mask.width)
+      throw std::runtime_error(AtLine(path, line_no, "row has " + std::to_string(fields.size()) + " values, expected " +
+                                                         std::to_string(mask.width)));
+    for (const auto& f : fields) mask.ids.push_back(ParseInt(f, path, line_no, "instance id"));
+    ++mask.height;
+  }
+  if (mask.height == 0) throw std::runtime_error(path + ": empty mask");
+  return mask;
+}
+
+}  // namespace dslam

@@ -1,0 +1,28 @@
+#pragma once
+// Per-pixel inputs of the VDO-SLAM layout, without OpenCV: Middlebury .flo optical flow and the
+// semantic/*.txt instance masks. Errors throw std::runtime_error naming the file (and line).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace dslam {
+
+struct FlowField {
+  int width = 0, height = 0;
+  std::vector<float> uv;  // row-major, (u, v) per pixel, pixels
+  float u(int x, int y) const { return uv[2 * (static_cast<size_t>(y) * width + x)]; }
+  float v(int x, int y) const { return uv[2 * (static_cast<size_t>(y) * width + x) + 1]; }
+};
+// Middlebury .flo: "PIEH" (float 202021.25), int32 width, int32 height, width*height*2 float32.
+FlowField ReadFlo(const std::string& path);
+
+struct InstanceMask {
+  int width = 0, height = 0;
+  std::vector<int32_t> ids;  // row-major; 0 = background (negative values kept as read)
+  int32_t at(int x, int y) const { return ids[static_cast<size_t>(y) * width + x]; }
+};
+// VDO-SLAM semantic/*.txt: one text row of integers per image row, all rows the same length.
+InstanceMask ReadSemanticTxt(const std::string& path);
+
+}  // namespace dslam

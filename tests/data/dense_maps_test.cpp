@@ -1,0 +1,87 @@
+#include "data/dense_maps.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+namespace dslam {
+namespace {
+
+const std::string kSamples = std::string(DSLAM_SHARED_DATA_DIR) + "/kitti_tracking/samples";
+
+std::string TempPath(const std::string& name) {
+  return (std::filesystem::temp_directory_path() / ("dslam_dm_" + std::to_string(::getpid()) + "_" + name)).string();
+}
+
+TEST(ReadFlo, ReadsTheKittiSample) {
+  const std::string path = kSamples + "/0000_flow_000000.flo";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data absent: " << path;
+  const FlowField flow = ReadFlo(path);
+  EXPECT_EQ(flow.width, 1242);
+  EXPECT_EQ(flow.height, 375);
+  double mean_abs_u = 0.0;
+  bool finite = true;
+  for (size_t i = 0; i < flow.uv.size(); i += 2) {
+    finite &= std::isfinite(flow.uv[i]) && std::isfinite(flow.uv[i + 1]);
+    mean_abs_u += std::abs(flow.uv[i]);
+  }
+  mean_abs_u /= flow.uv.size() / 2;
+  EXPECT_TRUE(finite);
+  // Forward driving between consecutive frames: a few pixels of flow on average, not zero, not wild.
+  EXPECT_GT(mean_abs_u, 0.1);
+  EXPECT_LT(mean_abs_u, 50.0);
+}
+
+TEST(ReadFlo, RoundTripAndBadFiles) {
+  const std::string path = TempPath("a.flo");
+  {
+    std::ofstream out(path, std::ios::binary);
+    const float magic = 202021.25f;
+    const int32_t w = 2, h = 1;
+    const float data[4] = {1.5f, -2.0f, 0.25f, 3.0f};
+    out.write(reinterpret_cast<const char*>(&magic), 4);
+    out.write(reinterpret_cast<const char*>(&w), 4);
+    out.write(reinterpret_cast<const char*>(&h), 4);
+    out.write(reinterpret_cast<const char*>(data), sizeof data);
+  }
+  const FlowField f = ReadFlo(path);
+  EXPECT_EQ(f.u(1, 0), 0.25f);
+  EXPECT_EQ(f.v(0, 0), -2.0f);
+  std::filesystem::resize_file(path, 12 + 8);  // truncated data
+  EXPECT_THROW(ReadFlo(path), std::runtime_error);
+  std::ofstream(path) << "not a flow file at all";
+  EXPECT_THROW(ReadFlo(path), std::runtime_error);
+  std::filesystem::remove(path);
+  EXPECT_THROW(ReadFlo(path), std::runtime_error);
+}
+
+TEST(ReadSemanticTxt, ReadsTheKittiSample) {
+  const std::string path = kSamples + "/0000_semantic_000101.txt";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data absent: " << path;
+  const InstanceMask mask = ReadSemanticTxt(path);
+  EXPECT_EQ(mask.width, 1242);
+  EXPECT_EQ(mask.height, 375);
+  int background = 0, labelled = 0;
+  for (int32_t id : mask.ids) (id == 0 ? background : labelled)++;
+  EXPECT_GT(background, labelled);  // objects cover a minority of the image
+  EXPECT_GT(labelled, 1000);
+}
+
+TEST(ReadSemanticTxt, RaggedRowsAndNonNumbersAreErrorsWithLine) {
+  const std::string path = TempPath("mask.txt");
+  std::ofstream(path) << "0 0 1\n0 1\n";
+  try {
+    ReadSemanticTxt(path);
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ":2"), std::string::npos) << e.what();
+  }
+  std::ofstream(path) << "0 0 1\n0 x 1\n";
+  EXPECT_THROW(ReadSemanticTxt(path), std::runtime_error);
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace dslam
