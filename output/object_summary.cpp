@@ -9,15 +9,11 @@
 
 #include "evaluation/evaluate_run.h"
 #include "geometry/velocity.h"
+#include "output/text_format.h"
 
 namespace dslam {
 namespace {
-std::string Num(const std::optional<double>& v, int precision) {
-  if (!v) return "";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(precision) << *v;
-  return s.str();
-}
+std::string Num(const std::optional<double>& v, int precision) { return FormatFixed(v, precision, ""); }
 }  // namespace
 
 std::vector<ObjectSummary> SummariseObjects(const Sequence& seq, const Estimate& est) {
@@ -68,7 +64,7 @@ std::string FormatObjectTable(const std::vector<ObjectSummary>& objects, const s
   for (const auto& o : objects) {
     const std::string speeds = o.mean_gt_speed_kmh ? Num(o.mean_gt_speed_kmh, 1) + "/" + Num(o.mean_est_speed_kmh, 1) + " km/h"
                                                    : "-";
-    auto cell = [](const std::optional<double>& v, int p) { return v ? Num(v, p) : std::string("-"); };
+    auto cell = [](const std::optional<double>& v, int p) { return FormatFixed(v, p, "-"); };
     std::snprintf(buf, sizeof buf, "%6d %-11s %3d/%-3d %9s %11s %9s %14s\n", o.object_id, o.category.c_str(),
                   o.frames_estimated, o.gt_pairs, cell(o.metrics.omte_pct, 2).c_str(),
                   cell(o.metrics.omre_deg_per_m, 3).c_str(), cell(o.metrics.omse_pct, 2).c_str(), speeds.c_str());

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "output/text_format.h"
 #include "output/trajectory_io.h"
 
 namespace dslam {
@@ -61,12 +62,6 @@ void WriteObjectTables(const std::string& dir, const std::string& suffix, const 
   if (!motions || !speeds) throw std::runtime_error("error while writing the object tables in " + dir);
 }
 
-std::string Cell(const std::optional<double>& v, int precision) {
-  if (!v) return "-";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(precision) << *v;
-  return s.str();
-}
 }  // namespace
 
 nlohmann::json MethodMetricsJson(const MethodMetrics& m, double wall_time_s) {
@@ -158,7 +153,7 @@ std::string FormatMetricsTable(const MethodOutcomes& outcomes, const std::string
     std::string cells[3];
     for (int c = 0; c < 3; ++c) {
       const auto it = outcomes.find(columns[c]);
-      cells[c] = it == outcomes.end() ? "-" : Cell(row.get(it->second.metrics), row.precision);
+      cells[c] = it == outcomes.end() ? "-" : FormatFixed(row.get(it->second.metrics), row.precision, "-");
     }
     std::snprintf(buf, sizeof buf, "%-22s %14s %14s %14s\n", row.label, cells[0].c_str(), cells[1].c_str(),
                   cells[2].c_str());

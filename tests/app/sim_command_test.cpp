@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/temp_paths.h"
+
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
@@ -9,9 +11,8 @@
 namespace dslam {
 namespace {
 
-std::string TempDir(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("dslam_sim_" + std::to_string(::getpid()) + "_" + name)).string();
-}
+using test::TempPath;
+
 
 void ExpectFailure(SimCommandOptions options, const std::string& fragment) {
   std::ostringstream out, err;
@@ -21,7 +22,7 @@ void ExpectFailure(SimCommandOptions options, const std::string& fragment) {
 
 TEST(SimCommand, BadConfigurationIsAClearError) {
   SimCommandOptions o;
-  o.out_dir = TempDir("bad");
+  o.out_dir = TempPath("bad");
   o.frames = 5;
   o.sigma_m = -0.02;
   ExpectFailure(o, "--sigma must be positive");
@@ -45,7 +46,7 @@ TEST(SimCommand, BinaryRejectsBadArgumentsWithoutCrashing) {
   // CLI11 and our own checks exit non-zero with a message; a crash would give a signal status.
   for (const char* args : {"sim --schedule window:1", "sim --mode wobbly", "sim --scenario highway", "sim --sigma -1",
                            "sim --frames -3", "nonsense"}) {
-    const int status = std::system((bin + " " + args + " --out " + TempDir("cli") + " > /dev/null 2>&1").c_str());
+    const int status = std::system((bin + " " + args + " --out " + TempPath("cli") + " > /dev/null 2>&1").c_str());
     ASSERT_TRUE(WIFEXITED(status)) << args;
     EXPECT_NE(WEXITSTATUS(status), 0) << args;
   }
@@ -55,7 +56,7 @@ TEST(SimCommand, BinaryRejectsBadArgumentsWithoutCrashing) {
 TEST(SimCommand, WritesResultsAndPrintsTheTable) {
   SimCommandOptions o;
   o.frames = 20;
-  o.out_dir = TempDir("ok");
+  o.out_dir = TempPath("ok");
   o.quiet = true;
   std::ostringstream out, err;
   ASSERT_EQ(RunSimCommand(o, out, err), 0) << err.str();

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/temp_paths.h"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -9,11 +11,11 @@
 namespace dslam {
 namespace {
 
+using test::TempDir;
+using test::TempPath;
+
 const std::string kSamples = std::string(DSLAM_SHARED_DATA_DIR) + "/kitti_tracking/samples";
 
-std::string TempPath(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("dslam_dm_" + std::to_string(::getpid()) + "_" + name)).string();
-}
 
 TEST(ReadFlo, ReadsTheKittiSample) {
   const std::string path = kSamples + "/0000_flow_000000.flo";

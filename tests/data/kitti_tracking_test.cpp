@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/temp_paths.h"
+
 #include <filesystem>
 #include <fstream>
 
@@ -10,17 +12,15 @@
 namespace dslam {
 namespace {
 
+using test::TempDir;
+using test::TempPath;
+
 namespace fs = std::filesystem;
 const fs::path kKitti = fs::path(DSLAM_SHARED_DATA_DIR) / "kitti_tracking";
 
 #define REQUIRE_SHARED_DATA()                                                            \
   if (!fs::exists(kKitti / "label_02" / "0000.txt")) GTEST_SKIP() << "shared data absent: " << kKitti
 
-fs::path TempDir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("dslam_kitti_" + std::to_string(::getpid()) + "_" + name);
-  fs::create_directories(p);
-  return p;
-}
 
 void ExpectErrorAt(const std::function<void()>& read, const std::string& where) {
   try {
@@ -57,7 +57,7 @@ TEST(KittiLabels, ReadsSequence0000AndSkipsDontCare) {
 }
 
 TEST(KittiLabels, MalformedInputNamesFileAndLine) {
-  const fs::path dir = TempDir("labels");
+  const fs::path dir = fs::path(TempDir("labels"));
   const std::string good = "0 1 Car 0 0 -1.5 10 10 50 50 1.5 1.6 3.9 2.0 1.7 15.0 -1.57";
   const std::string path = (dir / "l.txt").string();
   std::ofstream(path) << good << "\n0 1 Car 0 0 -1.5 10 10 50 50 1.5 1.6\n";
@@ -90,7 +90,7 @@ TEST(VdoFiles, ReadSequence0000) {
 }
 
 TEST(VdoFiles, MalformedInputNamesFileAndLine) {
-  const fs::path dir = TempDir("vdo");
+  const fs::path dir = fs::path(TempDir("vdo"));
   const std::string pose = (dir / "pose_gt.txt").string();
   std::ofstream(pose) << "0 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n2 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n";
   ExpectErrorAt([&] { ReadPoseGt(pose); }, pose + ":2: frame 2 out of order");
@@ -126,7 +126,7 @@ TEST(Oxts, CameraPosesFollowTheCalibrationChain) {
   std::vector<SE3> imu;
   for (int k = 0; k < 5; ++k)
     imu.push_back(SE3(Eigen::AngleAxisd(0.05 * k + 0.3, Vec3::UnitZ()).toRotationMatrix(), Vec3(1000.0 + k, y0 + 0.5 * k, 110.0)));
-  const fs::path dir = TempDir("oxts");
+  const fs::path dir = fs::path(TempDir("oxts"));
   const std::string path = (dir / "0001.txt").string();
   {
     std::ofstream out(path);
@@ -166,7 +166,7 @@ TEST(KittiDataset, LoadsBothLayoutsOfSequence0000) {
   EXPECT_NEAR(full.objects.at(1).l, 4.433886, 1e-9);
 
   // VDO-SLAM layout alone: a folder with only pose_gt.txt, object_pose.txt, times.txt, object_category.txt.
-  const fs::path vdo = TempDir("vdo_layout");
+  const fs::path vdo = fs::path(TempDir("vdo_layout"));
   for (const char* f : {"pose_gt.txt", "object_pose.txt", "times.txt", "object_category.txt"})
     fs::copy_file(kKitti / "gt" / "0000" / f, vdo / f, fs::copy_options::overwrite_existing);
   const auto only_vdo = LoadKittiGroundTruth(vdo.string(), "0000");
@@ -182,7 +182,7 @@ TEST(KittiDataset, LoadsBothLayoutsOfSequence0000) {
 }
 
 TEST(KittiDataset, MissingFilesAreClearErrors) {
-  const fs::path dir = TempDir("empty");
+  const fs::path dir = fs::path(TempDir("empty"));
   ExpectErrorAt([&] { LoadKittiGroundTruth(dir.string(), "0042"); }, "no camera poses for sequence 0042");
   ExpectErrorAt([&] { LoadKittiGroundTruth((dir / "nope").string(), "0042"); }, "does not exist");
   std::ofstream(dir / "pose_gt.txt") << "0 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n";

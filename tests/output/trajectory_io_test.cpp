@@ -2,15 +2,17 @@
 
 #include <gtest/gtest.h>
 
+#include "support/temp_paths.h"
+
 #include <filesystem>
 #include <fstream>
 
 namespace dslam {
 namespace {
 
-std::string TempPath(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("dslam_" + std::to_string(::getpid()) + "_" + name)).string();
-}
+using test::TempDir;
+using test::TempPath;
+
 
 TEST(TrajectoryIo, TumRoundTrip) {
   const std::vector<SE3> poses = {SE3::Identity(), SE3::Exp((Vec6() << 1, 2, 3, 0.1, -0.2, 0.3).finished())};

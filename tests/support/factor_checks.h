@@ -75,4 +75,12 @@ inline Vec6 SmallTwist(double scale) {
   return scale * xi;
 }
 
+// Solves with default options; returns whether Ceres found a usable solution.
+inline bool Solve(ceres::Problem* problem) {
+  ceres::Solver::Options options;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, problem, &summary);
+  return summary.IsSolutionUsable();
+}
+
 }  // namespace dslam::test

@@ -39,9 +39,7 @@ TEST(MotionSmoothnessFactor, SecondMotionConvergesToFirst) {
   problem.AddParameterBlock(b.data(), kPoseBlockSize, NewPoseManifold());
   problem.SetParameterBlockConstant(a.data());
   problem.AddResidualBlock(MotionSmoothnessFactor::Create(Vec6::Constant(0.1)), nullptr, a.data(), b.data());
-  ceres::Solver::Options options;
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
+  ASSERT_TRUE(test::Solve(&problem));
   EXPECT_TRUE(BlockToPose(b.data()).isApprox(H, 1e-8));
 }
 

@@ -49,9 +49,7 @@ TEST(OdometryFactor, SecondPoseConvergesFromPerturbedStart) {
   problem.AddParameterBlock(b.data(), kPoseBlockSize, NewPoseManifold());
   problem.AddResidualBlock(PosePriorFactor::Create(T0, Vec6::Constant(1e-4)), nullptr, a.data());
   problem.AddResidualBlock(OdometryFactor::Create(increment, Vec6::Constant(0.01)), nullptr, a.data(), b.data());
-  ceres::Solver::Options options;
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
+  ASSERT_TRUE(test::Solve(&problem));
   EXPECT_TRUE(BlockToPose(b.data()).isApprox(T0 * increment, 1e-7));
 }
 

@@ -46,9 +46,7 @@ TEST(PointMeasurementFactor, PointConvergesFromPerturbedStart) {
   problem.SetParameterBlockConstant(pose.data());
   problem.AddResidualBlock(PointMeasurementFactor::Create(T_world_camera.inverse() * l_true, Vec3::Constant(0.02)),
                            nullptr, pose.data(), l);
-  ceres::Solver::Options options;
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
+  ASSERT_TRUE(test::Solve(&problem));
   EXPECT_NEAR((Vec3(l[0], l[1], l[2]) - l_true).norm(), 0.0, 1e-8);
 }
 

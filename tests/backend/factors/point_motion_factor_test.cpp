@@ -53,9 +53,7 @@ TEST(PointMotionFactor, MotionConvergesFromPerturbedStart) {
     problem.SetParameterBlockConstant(prev[i].data());
     problem.SetParameterBlockConstant(curr[i].data());
   }
-  ceres::Solver::Options options;
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
+  ASSERT_TRUE(test::Solve(&problem));
   EXPECT_TRUE(BlockToPose(h.data()).isApprox(H_true, 1e-7));
 }
 

@@ -36,9 +36,7 @@ TEST(PosePriorFactor, ConvergesFromPerturbedStart) {
   ceres::Problem problem;
   problem.AddParameterBlock(block.data(), kPoseBlockSize, NewPoseManifold());
   problem.AddResidualBlock(PosePriorFactor::Create(prior, Vec6::Constant(1e-3)), nullptr, block.data());
-  ceres::Solver::Options options;
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
+  ASSERT_TRUE(test::Solve(&problem));
   EXPECT_TRUE(BlockToPose(block.data()).isApprox(prior, 1e-8));
 }
 
