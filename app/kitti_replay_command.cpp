@@ -47,7 +47,7 @@ int RunKittiReplayCommand(const KittiReplayCommandOptions& options, std::ostream
                                             ToString(config.backend.default_mode) + ")");
     out << FormatObjectTable(objects, "Per object (ours)");
     out << "Results written to " << options.out_dir << std::endl;
-    return 0;
+    return DrawRunFigures(options, out, err);
   } catch (const std::exception& e) {
     err << "dslam kitti-replay: error: " << e.what() << std::endl;
     return 2;

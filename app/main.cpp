@@ -3,8 +3,18 @@
 
 #include <iostream>
 
+#include "app/figures_command.h"
 #include "app/kitti_replay_command.h"
 #include "app/sim_command.h"
+
+namespace {
+void AddFigureFlags(CLI::App* cmd, dslam::CommonRunOptions* options) {
+  cmd->add_flag("--no-figures", options->no_figures, "Do not draw the figures and report.html at the end");
+  cmd->add_option("--figure-scale", options->figure_scale, "Scale of those figures (see dslam figures --scale)")
+      ->check(CLI::Range(0.1, 8.0))
+      ->capture_default_str();
+}
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"dslam: object-aware dynamic SLAM (Henein et al., ICRA 2020) - simulate, run and evaluate"};
@@ -29,6 +39,7 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   sim_cmd->add_option("--out", sim.out_dir, "Output directory")->capture_default_str();
   sim_cmd->add_flag("--quiet", sim.quiet, "Print only errors");
+  AddFigureFlags(sim_cmd, &sim);
 
   dslam::KittiReplayCommandOptions replay;
   CLI::App* replay_cmd = app.add_subcommand(
@@ -52,9 +63,25 @@ int main(int argc, char** argv) {
   replay_cmd->add_option("--config", replay.config_path, "YAML run configuration")->check(CLI::ExistingFile);
   replay_cmd->add_option("--out", replay.out_dir, "Output directory")->capture_default_str();
   replay_cmd->add_flag("--quiet", replay.quiet, "Print only errors");
+  AddFigureFlags(replay_cmd, &replay);
+
+  std::string figures_dir;
+  dslam::FigureOptions figures;
+  CLI::App* figures_cmd = app.add_subcommand(
+      "figures", "Draw trajectory.png, speeds.png, errors.png, map.png and report.html from a run's result files "
+                 "(starts its own Xvfb when DISPLAY is unset)");
+  figures_cmd->add_option("RESULTS_DIR", figures_dir, "Directory written by dslam sim / kitti-replay")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  figures_cmd->add_option("--scale", figures.scale, "Multiplies size, fonts and line widths (print resolution)")
+      ->check(CLI::Range(0.1, 8.0))
+      ->capture_default_str();
+  figures_cmd->add_option("--width", figures.width, "Width in pixels at scale 1")->check(CLI::Range(200, 8000))->capture_default_str();
+  figures_cmd->add_option("--height", figures.height, "Height in pixels at scale 1")->check(CLI::Range(150, 8000))->capture_default_str();
 
   CLI11_PARSE(app, argc, argv);
   if (sim_cmd->parsed()) return dslam::RunSimCommand(sim, std::cout, std::cerr);
   if (replay_cmd->parsed()) return dslam::RunKittiReplayCommand(replay, std::cout, std::cerr);
+  if (figures_cmd->parsed()) return dslam::RunFiguresCommand(figures_dir, figures, std::cout, std::cerr);
   return 0;
 }

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "app/figures_command.h"
 #include "pipeline/config_yaml.h"
 
 namespace dslam {
@@ -14,6 +15,13 @@ RunConfig BuildRunConfig(const CommonRunOptions& options, const std::string& def
   config.backend.noise.point_sigma_m = options.sigma_m;
   config.validate();
   return config;
+}
+
+int DrawRunFigures(const CommonRunOptions& options, std::ostream& out, std::ostream& err) {
+  if (options.no_figures) return 0;
+  FigureOptions figures;
+  figures.scale = options.figure_scale;
+  return RunFiguresCommand(options.out_dir, figures, out, err);
 }
 
 nlohmann::json RunInfo(const std::string& command, const CommonRunOptions& options, const RunConfig& config) {

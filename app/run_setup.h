@@ -21,11 +21,16 @@ struct CommonRunOptions {
   uint64_t seed = 1;
   std::string out_dir;
   bool quiet = false;
+  bool no_figures = false;    // skip the figures drawn at the end of the run
+  double figure_scale = 1.0;  // FigureOptions::scale of those figures
 };
 
 // Configuration file (or defaults), then `default_mode` unless --mode, then --schedule and --sigma.
 // Throws std::invalid_argument with a message naming the bad option.
 RunConfig BuildRunConfig(const CommonRunOptions& options, const std::string& default_mode);
+
+// The figures at the end of a run (unless options.no_figures): the exit code of `dslam figures`.
+int DrawRunFigures(const CommonRunOptions& options, std::ostream& out, std::ostream& err);
 
 // Fills the parameters every run records in metrics.json's "run" object.
 nlohmann::json RunInfo(const std::string& command, const CommonRunOptions& options, const RunConfig& config);

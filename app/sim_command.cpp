@@ -36,7 +36,7 @@ int RunSimCommand(const SimCommandOptions& options, std::ostream& out, std::ostr
                                             ", mode " + ToString(config.backend.default_mode) + ", " +
                                             ToString(config.backend.schedule) + ")");
     out << "Results written to " << options.out_dir << std::endl;
-    return 0;
+    return DrawRunFigures(options, out, err);
   } catch (const std::exception& e) {
     err << "dslam sim: error: " << e.what() << std::endl;
     return 2;

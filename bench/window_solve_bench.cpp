@@ -3,6 +3,7 @@
 // 0-199) and the one around frame 1000 (frames 900-1099). Constant cost: the two are about equal.
 // Usage: bench_window_solve [frames=1100] [window=10]
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <numeric>
@@ -46,12 +47,12 @@ int main(int argc, char** argv) {
   const auto& blocks = estimator.solveResidualBlocks();
   std::vector<double> sizes(blocks.begin(), blocks.end());
   std::cout << "city, " << frames << " frames, window " << window << " (smoothed motion, one thread)\n";
-  std::cout << "frames    0-199: mean solve " << Mean(ms, 0, 200) << " ms/frame, " << Mean(sizes, 0, 200)
-            << " residual blocks/window\n";
-  if (frames >= 1100)
-    std::cout << "frames  900-1099: mean solve " << Mean(ms, 900, 1100) << " ms/frame, " << Mean(sizes, 900, 1100)
-              << " residual blocks/window\n";
-  std::cout << "frame 100: " << ms[100] << " ms; frame " << std::min(1000, frames - 1) << ": "
-            << ms[std::min(1000, frames - 1)] << " ms\n";
+  std::cout << "frames        mean solve ms/frame   residual blocks/window   ms per 1000 blocks\n";
+  for (int from = 0; from + 100 <= frames; from += 100) {
+    const double t = Mean(ms, from, from + 100), b = Mean(sizes, from, from + 100);
+    std::printf("%4d-%-4d   %12.1f   %22.0f   %18.2f\n", from, from + 99, t, b, 1000.0 * t / b);
+  }
+  std::cout << "cycle around frame 100 (0-199): " << Mean(ms, 0, 200) << " ms/frame; cycle around frame 1000 (900-1099): "
+            << Mean(ms, 900, 1100) << " ms/frame\n";
   return 0;
 }

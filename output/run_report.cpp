@@ -62,6 +62,27 @@ void WriteObjectTables(const std::string& dir, const std::string& suffix, const 
   if (!motions || !speeds) throw std::runtime_error("error while writing the object tables in " + dir);
 }
 
+void WriteGroundTruthCentroids(const std::string& path, const Sequence& seq) {
+  std::ofstream out = OpenCsv(path, "frame,object_id,category,observed,x,y,z");
+  for (const auto& [id, obj] : seq.gt.objects)
+    for (const auto& [k, c] : obj.centroid_world)
+      out << k << ',' << id << ',' << obj.category << ',' << obj.observed_frames.count(k) << ',' << c.x() << ','
+          << c.y() << ',' << c.z() << '\n';
+  if (!out) throw std::runtime_error("error while writing " + path);
+}
+
+void WriteMapPoints(const std::string& path, const Estimate& est) {
+  // Static structure once per landmark (its final estimate); dynamic points once per observation.
+  std::ofstream out = OpenCsv(path, "frame,object_id,x,y,z");
+  std::set<int64_t> static_written;
+  for (const auto& p : est.points) {
+    if (p.object_id < 0 && !static_written.insert(p.track_id).second) continue;
+    out << (p.object_id < 0 ? -1 : p.frame) << ',' << p.object_id << ',' << p.p_world.x() << ',' << p.p_world.y() << ','
+        << p.p_world.z() << '\n';
+  }
+  if (!out) throw std::runtime_error("error while writing " + path);
+}
+
 }  // namespace
 
 nlohmann::json MethodMetricsJson(const MethodMetrics& m, double wall_time_s) {
@@ -107,6 +128,7 @@ void WriteRunOutputs(const std::string& dir, const Sequence& seq, const MethodOu
     out << metrics.dump(2) << '\n';
   }
 
+  WriteGroundTruthCentroids(dir + "/object_centroids_gt.csv", seq);
   std::vector<int64_t> t_ns;
   for (const auto& f : seq.frames) t_ns.push_back(f.t_ns);
   WriteTumTrajectory(dir + "/camera_gt.tum", t_ns, seq.gt.T_world_camera);
@@ -114,7 +136,10 @@ void WriteRunOutputs(const std::string& dir, const Sequence& seq, const MethodOu
   for (const auto& [method, outcome] : outcomes) {
     WriteTumTrajectory(dir + "/camera_" + ToString(method) + ".tum", t_ns, outcome.result.estimate.T_world_camera);
     WriteKittiTrajectory(dir + "/camera_" + ToString(method) + ".kitti", outcome.result.estimate.T_world_camera);
-    if (method == Method::kOurs) WriteObjectTables(dir, "", seq, outcome.result.estimate);
+    if (method == Method::kOurs) {
+      WriteObjectTables(dir, "", seq, outcome.result.estimate);
+      WriteMapPoints(dir + "/map_points.csv", outcome.result.estimate);
+    }
     if (method == Method::kSlamMot) WriteObjectTables(dir, "_slam_mot", seq, outcome.result.estimate);
   }
 }

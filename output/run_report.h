@@ -24,7 +24,9 @@ using MethodOutcomes = std::map<Method, MethodOutcome>;
 nlohmann::json MethodMetricsJson(const MethodMetrics& metrics, double wall_time_s);
 
 // Writes into `dir` (created if needed): metrics.json, camera_{gt,ours,static_only,slam_mot}.{tum,kitti},
-// object_motions.csv and object_speeds.csv (ours), object_motions_slam_mot.csv, object_speeds_slam_mot.csv.
+// object_motions.csv and object_speeds.csv (ours), object_motions_slam_mot.csv, object_speeds_slam_mot.csv,
+// object_centroids_gt.csv (frame,object_id,category,observed,x,y,z) and map_points.csv (ours:
+// frame,object_id,x,y,z; static landmarks once with frame -1 and object_id -1).
 void WriteRunOutputs(const std::string& dir, const Sequence& seq, const MethodOutcomes& outcomes,
                      const nlohmann::json& run_info);
 

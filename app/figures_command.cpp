@@ -1,0 +1,38 @@
+#include "app/figures_command.h"
+
+#include <chrono>
+#include <exception>
+
+#include "output/report_html.h"
+#include "render/headless_display.h"
+
+namespace dslam {
+
+int RunFiguresCommand(const std::string& dir, const FigureOptions& options, std::ostream& out, std::ostream& err) {
+  try {
+    if (!(options.scale > 0.0 && options.scale <= 8.0)) throw std::invalid_argument("--scale must be in (0, 8]");
+    if (options.width < 200 || options.height < 150) throw std::invalid_argument("figure size must be at least 200x150");
+    const auto start = std::chrono::steady_clock::now();
+    const RunResults results = ReadRunResults(dir);
+    std::string error;
+    const auto display = HeadlessDisplay::Acquire(&error);
+    if (!display) {
+      err << "dslam figures: error: " << error << std::endl;
+      return 3;
+    }
+    const std::vector<std::string> files = {"trajectory.png", "speeds.png", "errors.png", "map.png"};
+    DrawTrajectoryFigure(results, dir + "/" + files[0], options);
+    DrawSpeedsFigure(results, dir + "/" + files[1], options);
+    DrawErrorsFigure(results, dir + "/" + files[2], options);
+    DrawMapFigure(results, dir + "/" + files[3], options);
+    WriteReportHtml(results, files, dir + "/report.html");
+    out << "Figures written to " << dir << " (trajectory.png, speeds.png, errors.png, map.png, report.html) in "
+        << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s" << std::endl;
+    return 0;
+  } catch (const std::exception& e) {
+    err << "dslam figures: error: " << e.what() << std::endl;
+    return 2;
+  }
+}
+
+}  // namespace dslam

@@ -1,0 +1,36 @@
+// Time to draw every figure and the report of a 300-frame run (target: under 10 s).
+// Usage: bench_figures [frames=300] [scratch dir]
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+
+#include "app/figures_command.h"
+#include "output/run_report.h"
+#include "pipeline/run_sequence.h"
+#include "simulation/scenarios.h"
+
+int main(int argc, char** argv) {
+  const int frames = argc > 1 ? std::atoi(argv[1]) : 300;
+  const std::string dir = argc > 2 ? argv[2] : (std::filesystem::temp_directory_path() / "dslam_bench_figures").string();
+  if (frames < 2) {
+    std::cerr << "usage: bench_figures [frames >= 2] [dir]\n";
+    return 2;
+  }
+  dslam::ScenarioOptions scenario;
+  scenario.num_frames = frames;
+  const dslam::Sequence seq = dslam::MakeScenario("city", scenario);
+  dslam::RunConfig config;
+  config.backend.default_mode = dslam::MotionMode::kSmoothed;
+  config.backend.schedule = {dslam::ScheduleKind::kSlidingWindow, 10};
+  std::cerr << "running the " << frames << "-frame city sequence first...\n";
+  dslam::WriteRunOutputs(dir, seq, dslam::RunSequence(seq, config), {{"command", "sim"}, {"scenario", "city"}});
+  for (int run = 0; run < 3; ++run) {
+    const auto start = std::chrono::steady_clock::now();
+    const int code = dslam::RunFiguresCommand(dir, dslam::FigureOptions{}, std::cerr, std::cerr);
+    if (code != 0) return code;
+    std::cout << "all figures + report for " << frames << " frames: "
+              << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s\n";
+  }
+  return 0;
+}

@@ -1,0 +1,62 @@
+#pragma once
+// Reads back the result files a run wrote (see output/run_report.h), for figures and reports.
+// Errors throw std::runtime_error naming the file and line.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "geometry/se3.h"
+
+namespace dslam {
+
+struct RunResults {
+  std::string dir;
+  nlohmann::json metrics;
+  std::vector<int64_t> t_ns;
+  std::vector<SE3> camera_gt, camera_est;  // ours
+  struct SpeedRow {
+    int frame = 0, object_id = 0;
+    bool estimated = false, is_dynamic = false;
+    double est_mps = 0.0, gt_mps = 0.0;
+  };
+  std::vector<SpeedRow> speeds;
+  struct MotionRow {
+    int frame = 0, object_id = 0;
+    bool estimated = false;
+    SE3 H_est, H_gt;
+  };
+  std::vector<MotionRow> motions;  // ground-truth pairs only
+  struct CentroidRow {
+    int frame = 0, object_id = 0;
+    std::string category;
+    bool observed = false;
+    Vec3 c_world = Vec3::Zero();
+  };
+  std::vector<CentroidRow> centroids;
+  struct MapPoint {
+    int frame = -1, object_id = -1;
+    Vec3 p_world = Vec3::Zero();
+  };
+  std::vector<MapPoint> map_points;
+  std::vector<std::string> objects_header;              // objects.csv when present
+  std::vector<std::vector<std::string>> objects_rows;
+
+  // "sim paper" / "kitti-replay 0000", from metrics.json's run record.
+  std::string title() const;
+};
+
+RunResults ReadRunResults(const std::string& dir);
+
+// Comma-separated file with a header line; every row must have the header's number of fields.
+struct CsvTable {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+  std::vector<int> line_numbers;
+  int column(const std::string& name, const std::string& path) const;  // throws if absent
+};
+CsvTable ReadCsv(const std::string& path);
+
+}  // namespace dslam
