@@ -55,7 +55,8 @@ std::string RunResults::title() const {
   std::string t = run.value("command", std::string("run"));
   if (run.contains("scenario")) t += " " + run["scenario"].get<std::string>();
   if (run.contains("sequence")) t += " " + run["sequence"].get<std::string>();
-  if (run.contains("mode")) t += ", " + run["mode"].get<std::string>() + " motion";
+  t += ", ours";
+  if (run.contains("mode")) t += " (" + run["mode"].get<std::string>() + " motion)";
   return t;
 }
 

@@ -48,68 +48,86 @@ double Ramp(double t, double t0, double v0, double accel, double v_end) {
   return accel >= 0.0 ? std::min(v, v_end) : std::max(v, v_end);
 }
 
-SimObject CityCar(int id, const GroundPose& start, const std::function<SpeedCommand(double)>& command, int cycle_start,
-                  int frames) {
+// A car that exists during frames [first_frame, last_frame) of the sequence, driven by `command`.
+SimObject CityCar(int id, const GroundPose& start, const std::function<SpeedCommand(double)>& command, int first_frame,
+                  int last_frame) {
   SimObject car;
   car.object_id = id;
   car.category = "VEHICLE";
   const double l = 4.2, w = 1.8, h = 1.5;
   car.surface = SampleBox(l, w, h, 0.45);
   car.centroid_body = Vec3(0.0, -h / 2.0, 0.0);
-  const auto path = IntegrateUnicycle(start, command, frames - cycle_start, kFps);
-  for (int k = cycle_start; k < frames; ++k) car.L_world_object[k] = VehiclePoseOnGround(path[k - cycle_start], kGroundY);
+  const auto path = IntegrateUnicycle(start, command, last_frame - first_frame, kFps);
+  for (int k = first_frame; k < last_frame; ++k)
+    car.L_world_object[k] = VehiclePoseOnGround(path[k - first_frame], kGroundY);
   return car;
 }
 
+// The city repeats exactly every kCityCycleFrames: the camera's weave has a period that divides the
+// cycle, the static texture and the parked cars are one random pattern tiled along the road, and each
+// cycle's moving cars leave the view before the cycle ends. Frame k and frame k + n * cycle therefore
+// see the same scene, which makes the sliding window's cost comparable along a long run.
 SimWorld CityWorld(int frames, uint64_t seed) {
   SimWorld world;
   world.name = "city";
   world.frame_rate_hz = kFps;
-  // The camera weaves gently within its lane so that it also rotates.
+  const double cycle_s = kCityCycleFrames / kFps;
+  const double weave_period_s = cycle_s / 3.0;
   const auto camera_path = IntegrateUnicycle(
-      GroundPose{}, [](double t) { return SpeedCommand{6.0, 0.04 * std::cos(2.0 * M_PI * t / 8.0)}; }, frames, kFps);
-  for (const auto& p : camera_path) world.T_world_camera.push_back(CameraPoseOnGround(p));
+      GroundPose{},
+      [weave_period_s](double t) { return SpeedCommand{6.0, 0.04 * std::cos(2.0 * M_PI * t / weave_period_s)}; },
+      frames + kCityCycleFrames, kFps);
+  for (int k = 0; k < frames; ++k) world.T_world_camera.push_back(CameraPoseOnGround(camera_path[k]));
+  const double cycle_advance_m = camera_path[kCityCycleFrames].z - camera_path[0].z;
 
+  // One cycle's pattern of static points and parked cars, in road coordinates relative to the cycle start.
   std::mt19937_64 rng(seed * 7919 + 17);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  const double road_end = camera_path.back().z + 60.0;
+  std::vector<Vec3> pattern;
   // Sparse static texture (a busy street: much of the view is vehicles): about 50 landmarks a frame.
-  for (double z = -10.0; z < road_end; z += 1.2) {
+  for (double z = 0.0; z < cycle_advance_m; z += 1.2) {
     for (double side : {-1.0, 1.0})  // facades
-      world.static_points_world.emplace_back(side * (11.5 + u(rng)), -6.0 + 7.6 * u(rng), z + 1.2 * u(rng));
-    world.static_points_world.emplace_back(-8.0 + 16.0 * u(rng), kGroundY, z + 1.2 * u(rng));  // road
+      pattern.emplace_back(side * (11.5 + u(rng)), -6.0 + 7.6 * u(rng), z + 1.2 * u(rng));
+    pattern.emplace_back(-8.0 + 16.0 * u(rng), kGroundY, z + 1.2 * u(rng));  // road
   }
-  for (double z = 5.0; z < road_end; z += 30.0)  // poles
+  for (double z = 5.0; z < cycle_advance_m; z += 30.0)  // poles
     for (double side : {-1.0, 1.0})
-      for (double y = kGroundY; y > -5.0; y -= 0.6) world.static_points_world.emplace_back(side * 8.0, y, z);
+      for (double y = kGroundY; y > -5.0; y -= 0.6) pattern.emplace_back(side * 8.0, y, z);
+  std::vector<GroundPose> parked;
+  for (double z = 14.0; z < cycle_advance_m + 14.0; z += 13.0 + 6.0 * u(rng))
+    for (double side : {-1.0, 1.0}) parked.push_back({side * 9.3, z + 3.0 * u(rng), 0.0});
 
-  // Parked cars on both sides: segmented as objects, static all along. Static-only SLAM discards them.
+  const int cycles = (frames + kCityCycleFrames - 1) / kCityCycleFrames;
   int parked_id = kCityParkedIdBase;
-  for (double z = 14.0; z < road_end; z += 13.0 + 6.0 * u(rng))
-    for (double side : {-1.0, 1.0}) {
-      const double zz = z + 3.0 * u(rng);
-      world.objects.push_back(CityCar(parked_id++, {side * 9.3, zz, 0.0}, [](double) { return SpeedCommand{}; }, 0,
+  for (int tile = -1; tile <= cycles; ++tile) {  // one tile behind the start, one past the end
+    const double dz = tile * cycle_advance_m;
+    for (const Vec3& p : pattern) world.static_points_world.emplace_back(p.x(), p.y(), p.z() + dz);
+    // Parked cars: segmented as objects, static all along. Static-only SLAM discards them.
+    for (const GroundPose& g : parked)
+      world.objects.push_back(CityCar(parked_id++, {g.x, g.z + dz, 0.0}, [](double) { return SpeedCommand{}; }, 0,
                                       frames));
-    }
+  }
 
-  for (int cycle = 0; cycle * kCityCycleFrames < frames; ++cycle) {
+  for (int cycle = 0; cycle < cycles; ++cycle) {
     const int k0 = cycle * kCityCycleFrames;
+    const int k1 = std::min(frames, k0 + kCityCycleFrames);
     const double z0 = camera_path[k0].z;
     const int base = 10 * cycle;
     world.objects.push_back(CityCar(base + kCityAccelerating, {0.0, z0 + 10.0, 0.0},
-                                    [](double t) { return SpeedCommand{Ramp(t, 0.0, 5.0, 0.6, 12.0), 0.0}; }, k0, frames));
+                                    [](double t) { return SpeedCommand{Ramp(t, 0.0, 5.0, 0.6, 12.0), 0.0}; }, k0, k1));
     world.objects.push_back(CityCar(base + kCityBraking, {3.5, z0 + 20.0, 0.0},
-                                    [](double t) { return SpeedCommand{Ramp(t, 1.0, 9.0, -1.5, 3.0), 0.0}; }, k0, frames));
+                                    [](double t) { return SpeedCommand{Ramp(t, 1.0, 9.0, -1.5, 3.0), 0.0}; }, k0, k1));
     world.objects.push_back(CityCar(base + kCityTurning, {-3.5, z0 + 12.0, 0.0},
                                     [](double t) {
                                       const bool turning = t >= 3.0 && t < 3.0 + (M_PI / 2.0) / 0.5;
                                       return SpeedCommand{7.0, turning ? -0.5 : 0.0};
                                     },
-                                    k0, frames));
+                                    k0, k1));
     world.objects.push_back(CityCar(base + kCityStopping, {-7.0, z0 + 8.0, 0.0},
-                                    [](double t) { return SpeedCommand{Ramp(t, 2.0, 12.0, -3.0, 0.0), 0.0}; }, k0, frames));
+                                    [](double t) { return SpeedCommand{Ramp(t, 2.0, 12.0, -3.0, 0.0), 0.0}; }, k0, k1));
+    // Hidden by traffic for a while, then it speeds away and is out of range before the cycle ends.
     SimObject hidden = CityCar(base + kCityOccluded, {7.0, z0 + 8.0, 0.0},
-                               [](double) { return SpeedCommand{6.5, 0.0}; }, k0, frames);
+                               [](double t) { return SpeedCommand{Ramp(t, 20.0, 6.5, 1.0, 10.0), 0.0}; }, k0, k1);
     for (int k = k0 + kCityOcclusionBegin; k < std::min(frames, k0 + kCityOcclusionEnd); ++k)
       hidden.occluded_frames.insert(k);
     world.objects.push_back(std::move(hidden));
@@ -131,7 +149,7 @@ Sequence MakeScenario(const std::string& name, const ScenarioOptions& options) {
   }
   if (name == "city") {
     sensor.object_max_range_m = 30.0;  // long enough to watch the stopping car park
-    return SimulateSensor(CityWorld(options.num_frames > 0 ? options.num_frames : kCityCycleFrames, options.seed),
+    return SimulateSensor(CityWorld(options.num_frames > 0 ? options.num_frames : 200, options.seed),
                           sensor, options.noise, options.seed);
   }
   throw std::invalid_argument("unknown scenario '" + name + "' (expected paper or city)");

@@ -4,7 +4,7 @@
 //    constant SE(3) pose change, a camera on a circular path that keeps it in view, no static structure.
 //  - "city": a street with sparse static landmarks (facades, ground, poles), parked cars on both sides
 //    and, every 200 frames, five moving cars: accelerating, braking, turning off, stopping (then
-//    parked) and one hidden for 15 frames.
+//    parked) and one hidden for 15 frames. The scene repeats exactly every 300 frames.
 
 #include <cstdint>
 #include <string>
@@ -27,9 +27,9 @@ Sequence MakeScenario(const std::string& name, const ScenarioOptions& options);
 // The motion model the scenario is meant for ("constant" for paper, "smoothed" for city).
 std::string ScenarioDefaultMotionMode(const std::string& name);
 
-// City object ids of cycle c (frames [200c, 200c + 200)): 10 * c + role, role 1..5.
+// City object ids of cycle c (frames [300c, 300c + 300)): 10 * c + role, role 1..5.
 enum CityRole { kCityAccelerating = 1, kCityBraking = 2, kCityTurning = 3, kCityStopping = 4, kCityOccluded = 5 };
-constexpr int kCityCycleFrames = 200;
+constexpr int kCityCycleFrames = 300;  // the city repeats exactly with this period
 constexpr int kCityParkedIdBase = 1000;  // parked cars: ids 1000, 1001, ...
 // Frames of a cycle during which the kCityOccluded car is hidden.
 constexpr int kCityOcclusionBegin = 60, kCityOcclusionEnd = 75;

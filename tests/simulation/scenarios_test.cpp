@@ -103,9 +103,27 @@ TEST(Scenarios, CityHasTheScriptedBehaviours) {
   EXPECT_GE(std::count_if(gt.begin(), gt.end(), [](const auto& o) { return o.first >= kCityParkedIdBase; }), 10);
 }
 
+TEST(Scenarios, CityRepeatsExactlyEveryCycle) {
+  ScenarioOptions opt;
+  opt.num_frames = 2 * kCityCycleFrames;
+  const Sequence seq = MakeScenario("city", opt);
+  for (int k : {1, 60, 100, 250}) {
+    const auto& a = seq.frames[k];
+    const auto& b = seq.frames[k + kCityCycleFrames];
+    EXPECT_EQ(a.static_points.size(), b.static_points.size()) << k;
+    ASSERT_EQ(a.objects.size(), b.objects.size()) << k;
+    for (size_t j = 0; j < a.objects.size(); ++j) EXPECT_EQ(a.objects[j].points.size(), b.objects[j].points.size());
+    const SE3 da = seq.gt.T_world_camera[k - 1].inverse() * seq.gt.T_world_camera[k];
+    const SE3 db = seq.gt.T_world_camera[k - 1 + kCityCycleFrames].inverse() * seq.gt.T_world_camera[k + kCityCycleFrames];
+    EXPECT_TRUE(da.isApprox(db, 1e-6)) << k;
+  }
+  // A cycle's moving cars are gone before the next cycle starts.
+  for (const auto& obj : seq.frames[kCityCycleFrames - 1].objects) EXPECT_GE(obj.object_id, kCityParkedIdBase);
+}
+
 TEST(Scenarios, LongCityRunRepeatsItsCarsWithNewIds) {
   ScenarioOptions opt;
-  opt.num_frames = 450;
+  opt.num_frames = 2 * kCityCycleFrames + 50;
   const Sequence seq = MakeScenario("city", opt);
   EXPECT_TRUE(seq.gt.objects.count(10 + kCityBraking));
   EXPECT_TRUE(seq.gt.objects.count(20 + kCityTurning));
