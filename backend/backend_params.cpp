@@ -33,6 +33,7 @@ void BackendParams::validate() const {
   if (window_history_frames < 0) throw std::invalid_argument("window_history_frames must be >= 0");
   if (max_iterations_batch < 1 || max_iterations_window < 1)
     throw std::invalid_argument("max_iterations_batch and max_iterations_window must be >= 1");
+  RequirePositive(window_function_tolerance, "window_function_tolerance");
   if (num_threads < 1) throw std::invalid_argument("num_threads must be >= 1");
 }
 

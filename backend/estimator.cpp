@@ -31,10 +31,13 @@ void Estimator::addFrame(const FrameMeasurement& frame) {
   solve.first_frame = k - params_.schedule.window_frames + 1;
   solve.last_frame = k;
   solve.max_iterations = params_.max_iterations_window;
+  solve.function_tolerance = params_.window_function_tolerance;
   solve.num_threads = params_.num_threads;
   solve.fix_cameras = options_.fixed_T_world_camera != nullptr;
   solve.history_frames = params_.window_history_frames;
-  solve_residual_blocks_.push_back(SolveGraph(params_, solve, &graph_).num_residual_blocks);
+  const SolveSummary summary = SolveGraph(params_, solve, &graph_);
+  solve_residual_blocks_.push_back(summary.num_residual_blocks);
+  solve_iterations_.push_back(summary.num_iterations);
   solve_times_ms_.push_back(
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
 }

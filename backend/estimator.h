@@ -29,6 +29,7 @@ class Estimator {
   const std::vector<double>& solveTimesMs() const { return solve_times_ms_; }
   // Size of each of those solves (residual blocks), the structural measure of its cost.
   const std::vector<int>& solveResidualBlocks() const { return solve_residual_blocks_; }
+  const std::vector<int>& solveIterations() const { return solve_iterations_; }
   const FactorGraph& graph() const { return graph_; }
 
  private:
@@ -41,6 +42,7 @@ class Estimator {
   GraphBuilder builder_;
   std::vector<double> solve_times_ms_;
   std::vector<int> solve_residual_blocks_;
+  std::vector<int> solve_iterations_;
 };
 
 }  // namespace dslam

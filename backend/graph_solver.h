@@ -14,7 +14,8 @@ struct SolveOptions {
   int max_iterations = 50;
   int num_threads = 1;
   bool fix_cameras = false;
-  int history_frames = 0;  // see BackendParams::window_history_frames  // SLAM+MOT's object stage: camera poses come from the static stage
+  int history_frames = 0;  // see BackendParams::window_history_frames
+  double function_tolerance = 1e-6;  // SLAM+MOT's object stage: camera poses come from the static stage
 };
 
 struct SolveSummary {

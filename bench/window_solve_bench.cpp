@@ -46,16 +46,18 @@ int main(int argc, char** argv) {
   const auto& ms = estimator.solveTimesMs();
   const auto& blocks = estimator.solveResidualBlocks();
   std::vector<double> sizes(blocks.begin(), blocks.end());
+  std::vector<double> iterations(estimator.solveIterations().begin(), estimator.solveIterations().end());
   std::cout << "city, " << frames << " frames, window " << window << " (smoothed motion, one thread)\n";
-  std::cout << "frames        mean solve ms/frame   residual blocks/window   ms per 1000 blocks\n";
+  std::cout << "frames        mean solve ms/frame   residual blocks/window   LM iterations   ms per 1000 blocks"
+               " and iteration\n";
   for (int from = 0; from + 100 <= frames; from += 100) {
-    const double t = Mean(ms, from, from + 100), b = Mean(sizes, from, from + 100);
-    std::printf("%4d-%-4d   %12.1f   %22.0f   %18.2f\n", from, from + 99, t, b, 1000.0 * t / b);
+    const double t = Mean(ms, from, from + 100), b = Mean(sizes, from, from + 100), it = Mean(iterations, from, from + 100);
+    std::printf("%4d-%-4d   %12.1f   %22.0f   %13.1f   %18.2f\n", from, from + 99, t, b, it, 1000.0 * t / (b * it));
   }
   std::cout << "around frame 100 (90-109): " << Mean(ms, 90, 110) << " ms/frame, " << Mean(sizes, 90, 110)
-            << " residual blocks\n";
+            << " residual blocks, " << Mean(iterations, 90, 110) << " iterations\n";
   if (frames >= 1010)
     std::cout << "around frame 1000 (990-1009): " << Mean(ms, 990, 1010) << " ms/frame, " << Mean(sizes, 990, 1010)
-              << " residual blocks\n";
+              << " residual blocks, " << Mean(iterations, 990, 1010) << " iterations\n";
   return 0;
 }

@@ -68,6 +68,8 @@ const Schema& GetSchema() {
         {"window_history_frames", Field<int>([](RunConfig& c) -> int& { return c.backend.window_history_frames; })},
         {"max_iterations_batch", Field<int>([](RunConfig& c) -> int& { return c.backend.max_iterations_batch; })},
         {"max_iterations_window", Field<int>([](RunConfig& c) -> int& { return c.backend.max_iterations_window; })},
+        {"window_function_tolerance",
+         Field<double>([](RunConfig& c) -> double& { return c.backend.window_function_tolerance; })},
         {"num_threads", Field<int>([](RunConfig& c) -> int& { return c.backend.num_threads; })},
         {"linear_solver",
          {[](const YAML::Node& n, RunConfig& c) { c.backend.linear_solver = ParseLinearSolver(n.as<std::string>()); },
