@@ -64,7 +64,7 @@ Estimate Estimator::extract() const {
     m.object_id = tr.object_id;
     m.frame = tr.frame;
     m.is_dynamic = tr.is_dynamic;
-    if (tr.is_dynamic) m.H_world = BlockToPose(graph_.motions[tr.motion_var].H_world.data());
+    if (tr.is_dynamic) m.H_world = graph_.motions[tr.motion_var].worldMotion();
     Vec3 centroid = Vec3::Zero();
     for (int v : tr.prev_point_vars) {
       const auto& p = graph_.points[v].p_world;

@@ -29,11 +29,19 @@ struct PointVariable {
   std::vector<std::pair<int, int>> observations;
 };
 
+// An object's pose change, stored about an anchor point c near the object (not about the world
+// origin): H_world = Tc * H_anchor * Tc^-1 with Tc the translation by c. The same motion, but a small
+// rotation no longer swings a translation the size of the object's distance from the origin, which
+// would make the problem worse conditioned the farther a run goes.
 struct MotionVariable {
-  PoseBlock H_world{};
+  PoseBlock H_anchor{};
+  Vec3 anchor_world = Vec3::Zero();
   int object_id = 0;
   int first_frame = 0;
   int last_frame = 0;
+
+  SE3 worldMotion() const;
+  static PoseBlock AnchorBlock(const SE3& H_world, const Vec3& anchor_world);
 };
 
 struct PointMeasurementEntry {
@@ -73,6 +81,18 @@ struct ObjectTransition {
   int motion_var = -1;      // -1 when static or when no motion could be initialised
   std::vector<int> prev_point_vars;  // the inlier tracks' variables at k-1 (centroid c_{k-1})
 };
+
+inline SE3 MotionVariable::worldMotion() const {
+  const SE3 H = BlockToPose(H_anchor.data());
+  return SE3(H.rotation(), H.translation() + anchor_world - H.rotation() * anchor_world);
+}
+
+inline PoseBlock MotionVariable::AnchorBlock(const SE3& H_world, const Vec3& anchor_world) {
+  PoseBlock block;
+  PoseToBlock(SE3(H_world.rotation(), H_world.translation() + H_world.rotation() * anchor_world - anchor_world),
+              block.data());
+  return block;
+}
 
 struct FactorGraph {
   std::vector<PoseBlock> camera_poses;  // T_world_camera per frame

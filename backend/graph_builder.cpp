@@ -141,8 +141,14 @@ void GraphBuilder::addDynamicTransition(const ObjectObservation& obs, int frame,
   const MotionMode mode = params_.modeFor(obs.object_id);
   int motion_var = mode == MotionMode::kConstant ? state.constant_motion_var : -1;
   if (motion_var < 0) {
+    // Anchor: the centroid of the RANSAC inliers at k-1, a point on the object.
+    Vec3 anchor = Vec3::Zero();
+    for (size_t j = 0; j < src.size(); ++j)
+      if (fit->is_inlier[j]) anchor += src[j];
+    anchor /= static_cast<double>(fit->num_inliers);
     MotionVariable var;
-    PoseToBlock(fit->transform, var.H_world.data());
+    var.anchor_world = anchor;
+    var.H_anchor = MotionVariable::AnchorBlock(fit->transform, anchor);
     var.object_id = obs.object_id;
     var.first_frame = frame;
     graph_->motions.push_back(var);

@@ -46,7 +46,7 @@ SolveSummary SolveGraph(const BackendParams& params, const SolveOptions& options
     return block;
   };
   auto motion = [&](int m) {
-    double* block = graph->motions[m].H_world.data();
+    double* block = graph->motions[m].H_anchor.data();
     if (motion_blocks.insert(m).second) {
       problem.AddParameterBlock(block, kPoseBlockSize, pose_manifold.get());
       if (graph->motions[m].last_frame < first) problem.SetParameterBlockConstant(block);
@@ -66,13 +66,15 @@ SolveSummary SolveGraph(const BackendParams& params, const SolveOptions& options
       problem.AddResidualBlock(PointMeasurementFactor::Create(m.z_camera, m.sigma_m), &huber, camera(k),
                                point(m.point_var));
     for (const auto& m : factors.point_motions)
-      problem.AddResidualBlock(PointMotionFactor::Create(params.noise.motion_sigma_m), &huber, point(m.prev_point_var),
-                               point(m.curr_point_var), motion(m.motion_var));
+      problem.AddResidualBlock(PointMotionFactor::Create(params.noise.motion_sigma_m,
+                                                         graph->motions[m.motion_var].anchor_world),
+                               &huber, point(m.prev_point_var), point(m.curr_point_var), motion(m.motion_var));
     Vec6 smooth_sigma;
     smooth_sigma << Vec3::Constant(params.noise.smoothness_sigma_t_m), Vec3::Constant(params.noise.smoothness_sigma_r_rad);
     for (const auto& s : factors.smoothness)
-      problem.AddResidualBlock(MotionSmoothnessFactor::Create(smooth_sigma), nullptr, motion(s.prev_motion_var),
-                               motion(s.curr_motion_var));
+      problem.AddResidualBlock(MotionSmoothnessFactor::Create(smooth_sigma, graph->motions[s.prev_motion_var].anchor_world,
+                                                              graph->motions[s.curr_motion_var].anchor_world),
+                               nullptr, motion(s.prev_motion_var), motion(s.curr_motion_var));
   }
   // Window anchoring: older observations of the window's landmarks, against the fixed older cameras.
   const int history_start = std::max(0, first - options.history_frames);
@@ -99,7 +101,7 @@ SolveSummary SolveGraph(const BackendParams& params, const SolveOptions& options
   for (int v : point_blocks)
     ordering->AddElementToGroup(graph->points[v].p_world.data(), !schur || graph->points[v].eliminate_first ? 0 : 1);
   for (int k : camera_blocks) ordering->AddElementToGroup(graph->camera_poses[k].data(), 1);
-  for (int m : motion_blocks) ordering->AddElementToGroup(graph->motions[m].H_world.data(), 1);
+  for (int m : motion_blocks) ordering->AddElementToGroup(graph->motions[m].H_anchor.data(), 1);
 
   ceres::Solver::Options solver_options;
   solver_options.linear_solver_type = schur ? ceres::SPARSE_SCHUR : ceres::SPARSE_NORMAL_CHOLESKY;

@@ -4,6 +4,7 @@
 
 #include <memory>
 
+#include "backend/factor_graph.h"
 #include "support/factor_checks.h"
 
 namespace dslam {
@@ -27,6 +28,28 @@ TEST(PointMotionFactor, ResidualIsWhitenedDisplacementError) {
   EXPECT_NEAR(r[0], 0.0, 1e-12);
   EXPECT_NEAR(r[1], 0.0, 1e-12);
   EXPECT_NEAR(r[2], 1.0, 1e-12);
+}
+
+TEST(PointMotionFactor, AnchoredMotionGivesTheWorldFrameResidual) {
+  // Far from the world origin, with H stored about an anchor near the object.
+  const SE3 H_world = SE3::Exp(test::SmallTwist(5.0));
+  const Vec3 anchor(300.0, 1.0, 650.0);
+  const Vec3 prev(301.0, 0.5, 652.0), curr = H_world * prev + Vec3(0.01, -0.02, 0.03);
+  std::unique_ptr<ceres::CostFunction> world(PointMotionFactor::Create(0.01));
+  std::unique_ptr<ceres::CostFunction> anchored(PointMotionFactor::Create(0.01, anchor));
+  double a[3] = {prev.x(), prev.y(), prev.z()}, b[3] = {curr.x(), curr.y(), curr.z()};
+  auto h_world = test::ToBlock(H_world);
+  auto h_anchor = MotionVariable::AnchorBlock(H_world, anchor);
+  const auto r_world = test::Evaluate(*world, {a, b, h_world.data()});
+  const auto r_anchor = test::Evaluate(*anchored, {a, b, h_anchor.data()});
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(r_world[i], r_anchor[i], 1e-6);
+  EXPECT_NEAR(r_anchor[2], 3.0, 1e-6);
+  test::ExpectJacobiansMatchNumeric(*anchored, {a, b, h_anchor.data()}, 1e-5);
+  // Round trip of the anchored storage.
+  MotionVariable var;
+  var.anchor_world = anchor;
+  var.H_anchor = h_anchor;
+  EXPECT_TRUE(var.worldMotion().isApprox(H_world, 1e-9));
 }
 
 TEST(PointMotionFactor, JacobianMatchesNumeric) {
