@@ -5,6 +5,7 @@
 
 #include "app/figures_command.h"
 #include "app/kitti_replay_command.h"
+#include "app/render_scene_command.h"
 #include "app/sim_command.h"
 
 namespace {
@@ -79,7 +80,22 @@ int main(int argc, char** argv) {
   figures_cmd->add_option("--width", figures.width, "Width in pixels at scale 1")->check(CLI::Range(200, 8000))->capture_default_str();
   figures_cmd->add_option("--height", figures.height, "Height in pixels at scale 1")->check(CLI::Range(150, 8000))->capture_default_str();
 
+  dslam::RenderSceneOptions render;
+  CLI::App* render_cmd = app.add_subcommand(
+      "render-scene", "Render a KITTI-driven RGB-D scene (colour, depth, instance masks, exact ground truth) in the "
+                      "VDO-SLAM layout; starts its own Xvfb when DISPLAY is unset");
+  render_cmd->add_option("--kitti", render.kitti_dir, "KITTI tracking data directory (KITTI or VDO-SLAM layout)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  render_cmd->add_option("--seq", render.sequence, "Sequence number, e.g. 0000")->required();
+  render_cmd->add_option("--frames", render.frames, "Frames to render (0: all)")->capture_default_str();
+  render_cmd->add_option("--scale", render.scale, "Image size relative to 1242x375, intrinsics scaled alike")
+      ->capture_default_str();
+  render_cmd->add_option("--out", render.out_dir, "Output directory")->capture_default_str();
+  render_cmd->add_flag("--quiet", render.quiet, "Print only errors and the summary");
+
   CLI11_PARSE(app, argc, argv);
+  if (render_cmd->parsed()) return dslam::RunRenderSceneCommand(render, std::cout, std::cerr);
   if (sim_cmd->parsed()) return dslam::RunSimCommand(sim, std::cout, std::cerr);
   if (replay_cmd->parsed()) return dslam::RunKittiReplayCommand(replay, std::cout, std::cerr);
   if (figures_cmd->parsed()) return dslam::RunFiguresCommand(figures_dir, figures, std::cout, std::cerr);

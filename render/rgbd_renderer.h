@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "data/scene.h"
 #include "geometry/se3.h"
 
 namespace dslam {
@@ -19,10 +20,7 @@ struct CameraIntrinsics {
 };
 
 // A textured planar quad: corners in order around the quad, world frame.
-struct RenderQuad {
-  std::array<Vec3, 4> corners_world;
-  uint32_t texture_seed = 1;
-};
+using RenderQuad = StaticQuad;
 
 // A box in the KITTI body convention (origin at the bottom centre, l along x, h upwards along -y, w along z).
 struct RenderBox {

@@ -1,0 +1,21 @@
+#pragma once
+
+#include <ostream>
+#include <string>
+
+namespace dslam {
+
+struct RenderSceneOptions {
+  std::string kitti_dir;   // KITTI tracking data (either layout)
+  std::string sequence;    // e.g. 0000
+  int frames = 0;          // 0: the whole sequence
+  double scale = 1.0;      // image size and intrinsics relative to KITTI's 1242x375
+  std::string out_dir = "results/render";
+  bool quiet = false;
+};
+
+// `dslam render-scene`: renders a KITTI-driven scene into the VDO-SLAM layout with exact ground truth.
+// Exit codes: 0 done, 2 bad input, 3 no display to be had.
+int RunRenderSceneCommand(const RenderSceneOptions& options, std::ostream& out, std::ostream& err);
+
+}  // namespace dslam

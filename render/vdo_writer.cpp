@@ -1,0 +1,121 @@
+#include "render/vdo_writer.h"
+
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPNGWriter.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <map>
+#include <stdexcept>
+
+namespace dslam {
+namespace {
+std::string Name(int k, const char* ext) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%06d.%s", k, ext);
+  return buf;
+}
+
+// Writes rows top-down from `pixel(u, v, channel)`; VTK images start at the bottom row.
+template <typename T, typename F>
+void WritePng(const std::string& path, int width, int height, int channels, int vtk_type, F pixel) {
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(width, height, 1);
+  image->AllocateScalars(vtk_type, channels);
+  for (int v = 0; v < height; ++v) {
+    auto* row = static_cast<T*>(image->GetScalarPointer(0, height - 1 - v, 0));
+    for (int u = 0; u < width; ++u)
+      for (int c = 0; c < channels; ++c) row[u * channels + c] = pixel(u, v, c);
+  }
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetFileName(path.c_str());
+  writer->SetInputData(image);
+  writer->Write();
+  if (writer->GetErrorCode() != 0) throw std::runtime_error("cannot write " + path);
+}
+
+std::ofstream Open(const std::string& path) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error("cannot write " + path);
+  out << std::setprecision(9);
+  return out;
+}
+}  // namespace
+
+VdoWriter::VdoWriter(const std::string& dir, const Scene& scene, const CameraIntrinsics& camera)
+    : dir_(dir), scene_(scene), camera_(camera) {
+  for (const char* sub : {"image_0", "depth", "mask", "semantic"}) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir + "/" + sub, ec);
+    if (ec) throw std::runtime_error("cannot create " + dir + "/" + sub + ": " + ec.message());
+  }
+  poses_ = Open(dir + "/pose_gt.txt");
+  objects_ = Open(dir + "/object_pose.txt");
+  times_ = Open(dir + "/times.txt");
+  std::ofstream categories = Open(dir + "/object_category.txt");
+  for (const auto& o : scene.objects) categories << o.object_id << ' ' << o.category << '\n';
+  std::ofstream calib = Open(dir + "/calib.txt");
+  for (int i = 0; i < 4; ++i)  // one camera (stereo not rendered yet): every P is the left one
+    calib << 'P' << i << ": " << camera.fx << " 0 " << camera.cx << " 0 0 " << camera.fy << ' ' << camera.cy
+          << " 0 0 0 1 0\n";
+  calib << "R0_rect: 1 0 0 0 1 0 0 0 1\n";
+}
+
+void VdoWriter::write(int k, const RgbdFrame& f) {
+  const int w = f.width, h = f.height;
+  WritePng<uint8_t>(dir_ + "/image_0/" + Name(k, "png"), w, h, 3, VTK_UNSIGNED_CHAR,
+                    [&](int u, int v, int c) { return f.rgb[3 * (static_cast<size_t>(v) * w + u) + c]; });
+  WritePng<uint16_t>(dir_ + "/depth/" + Name(k, "png"), w, h, 1, VTK_UNSIGNED_SHORT, [&](int u, int v, int) {
+    const double mm = std::round(f.depth(u, v) * 1000.0);
+    return static_cast<uint16_t>(std::clamp(mm, 0.0, 65535.0));
+  });
+  WritePng<uint16_t>(dir_ + "/mask/" + Name(k, "png"), w, h, 1, VTK_UNSIGNED_SHORT,
+                     [&](int u, int v, int) { return f.id(u, v); });
+  {
+    std::ofstream sem = Open(dir_ + "/semantic/" + Name(k, "txt"));
+    for (int v = 0; v < h; ++v) {
+      for (int u = 0; u < w; ++u) sem << f.id(u, v) << (u + 1 < w ? ' ' : '\n');
+    }
+  }
+
+  const SE3& T = scene_.T_world_camera[k];
+  const Mat4 M = T.matrix();
+  poses_ << k;
+  for (int i = 0; i < 16; ++i) poses_ << ' ' << M(i / 4, i % 4);
+  poses_ << '\n';
+  times_ << std::fixed << std::setprecision(6) << k / scene_.frame_rate_hz << '\n' << std::defaultfloat;
+
+  // 2D boxes from the mask; poses in the current camera frame (bottom centre, rotation about y).
+  struct Box2d {
+    int x1 = 1 << 30, y1 = 1 << 30, x2 = -1, y2 = -1;
+  };
+  std::map<int, Box2d> boxes;
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) {
+      const int id = f.id(u, v);
+      if (id == 0) continue;
+      Box2d& b = boxes[id];
+      b.x1 = std::min(b.x1, u), b.y1 = std::min(b.y1, v), b.x2 = std::max(b.x2, u), b.y2 = std::max(b.y2, v);
+    }
+  for (const auto& o : scene_.objects) {
+    const auto pose = o.L_world_object.find(k);
+    const auto box = boxes.find(o.object_id);
+    if (pose == o.L_world_object.end() || box == boxes.end()) continue;
+    const SE3 T_camera_object = T.inverse() * pose->second;
+    const Mat3 R = T_camera_object.rotationMatrix();
+    const Vec3& p = T_camera_object.translation();
+    objects_ << k << '\t' << o.object_id << '\t' << box->second.x1 << '\t' << box->second.y1 << '\t' << box->second.x2
+             << '\t' << box->second.y2 << '\t' << p.x() << '\t' << p.y() << '\t' << p.z() << '\t'
+             << std::atan2(R(0, 2), R(0, 0)) << '\n';
+  }
+  poses_.flush();
+  objects_.flush();
+  times_.flush();
+  if (!poses_ || !objects_ || !times_) throw std::runtime_error("error while writing the ground truth in " + dir_);
+}
+
+}  // namespace dslam
