@@ -91,6 +91,13 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--frames", render.frames, "Frames to render (0: all)")->capture_default_str();
   render_cmd->add_option("--scale", render.scale, "Image size relative to 1242x375, intrinsics scaled alike")
       ->capture_default_str();
+  render_cmd->add_option("--image-noise", render.image_noise, "Colour noise sigma, grey levels")->capture_default_str();
+  render_cmd->add_option("--depth-noise", render.depth_noise_m, "Depth noise sigma at zero depth, metres")
+      ->capture_default_str();
+  render_cmd->add_option("--depth-noise-per-m2", render.depth_noise_per_m2,
+                         "Depth noise sigma added per square metre of depth")
+      ->capture_default_str();
+  render_cmd->add_option("--seed", render.seed, "Seed of the noise")->capture_default_str();
   render_cmd->add_option("--out", render.out_dir, "Output directory")->capture_default_str();
   render_cmd->add_flag("--quiet", render.quiet, "Print only errors and the summary");
 

@@ -7,6 +7,7 @@
 #include "data/kitti_dataset.h"
 #include "render/headless_display.h"
 #include "render/rgbd_renderer.h"
+#include "render/sensor_noise.h"
 #include "render/vdo_writer.h"
 #include "simulation/scene_builder.h"
 
@@ -16,6 +17,9 @@ int RunRenderSceneCommand(const RenderSceneOptions& options, std::ostream& out, 
   try {
     if (!(options.scale > 0.05 && options.scale <= 4.0)) throw std::invalid_argument("--scale must be in (0.05, 4]");
     if (options.frames < 0) throw std::invalid_argument("--frames must be >= 0");
+    const SensorNoise noise{options.image_noise, options.depth_noise_m, options.depth_noise_per_m2};
+    if (noise.image_sigma < 0.0 || noise.depth_sigma_m < 0.0 || noise.depth_sigma_per_m2 < 0.0)
+      throw std::invalid_argument("noise sigmas must be >= 0");
     const KittiGroundTruthSequence gt = LoadKittiGroundTruth(options.kitti_dir, options.sequence);
     const Scene scene = SceneFromKitti(gt);
     CameraIntrinsics camera;
@@ -46,7 +50,9 @@ int RunRenderSceneCommand(const RenderSceneOptions& options, std::ostream& out, 
         if (pose == o.L_world_object.end()) continue;
         boxes.push_back({o.object_id, pose->second, o.l, o.w, o.h, o.texture_seed});
       }
-      writer.write(k, renderer.render(scene.T_world_camera[k], boxes));
+      RgbdFrame frame = renderer.render(scene.T_world_camera[k], boxes);
+      if (noise.any()) AddSensorNoise(noise, options.seed * 1000003ULL + static_cast<uint64_t>(k), &frame);
+      writer.write(k, frame);
       if (!options.quiet && ((k + 1) % std::max(1, frames / 10) == 0 || k + 1 == frames)) {
         const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         out << "  frame " << k + 1 << "/" << frames << ", " << (k + 1) / s << " frames/s" << std::endl;

@@ -11,6 +11,10 @@ struct RenderSceneOptions {
   int frames = 0;          // 0: the whole sequence
   double scale = 1.0;      // image size and intrinsics relative to KITTI's 1242x375
   std::string out_dir = "results/render";
+  double image_noise = 0.0;             // colour noise sigma, grey levels
+  double depth_noise_m = 0.0;           // depth noise sigma at zero depth
+  double depth_noise_per_m2 = 0.0;      // ... plus this per square metre of depth
+  uint64_t seed = 1;
   bool quiet = false;
 };
 

@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "render/headless_display.h"
+#include "render/sensor_noise.h"
 
 namespace dslam {
 namespace {
@@ -144,6 +145,31 @@ TEST_F(RgbdRendererTest, ColourIsTexturedAndDeterministic) {
   for (int u = 1; u < K.width; ++u) changes += std::abs(a.rgb[3 * (340 * K.width + u)] - a.rgb[3 * (340 * K.width + u - 1)]) > 8;
   EXPECT_GT(changes, 50);
   EXPECT_THROW(RgbdRenderer(CameraIntrinsics{0, 0}, {}), std::invalid_argument);
+}
+
+TEST(SensorNoise, DepthNoiseGrowsWithDepthAndHolesStayHoles) {
+  RgbdFrame f;
+  f.width = 1000, f.height = 2;
+  f.rgb.assign(3 * 2000, 128);
+  f.depth_m.assign(2000, 0.0f);
+  for (int i = 0; i < 1000; ++i) f.depth_m[i] = 5.0f, f.depth_m[1000 + i] = 20.0f;
+  f.depth_m[0] = 0.0f;
+  const RgbdFrame clean = f;
+  AddSensorNoise({2.0, 0.01, 0.001}, 7, &f);
+  auto rms = [&](int from, int to) {
+    double s = 0;
+    for (int i = from; i < to; ++i) s += std::pow(f.depth_m[i] - clean.depth_m[i], 2);
+    return std::sqrt(s / (to - from));
+  };
+  EXPECT_EQ(f.depth_m[0], 0.0f);
+  EXPECT_NEAR(rms(1, 1000), 0.01 + 0.001 * 25, 0.006);
+  EXPECT_NEAR(rms(1000, 2000), 0.01 + 0.001 * 400, 0.05);
+  double image_rms = 0;
+  for (size_t i = 0; i < f.rgb.size(); ++i) image_rms += std::pow(f.rgb[i] - 128.0, 2);
+  EXPECT_NEAR(std::sqrt(image_rms / f.rgb.size()), 2.0, 0.3);
+  RgbdFrame again = clean;
+  AddSensorNoise({2.0, 0.01, 0.001}, 7, &again);
+  EXPECT_EQ(again.depth_m, f.depth_m);  // seeded
 }
 
 }  // namespace
