@@ -84,11 +84,16 @@ int main(int argc, char** argv) {
   CLI::App* render_cmd = app.add_subcommand(
       "render-scene", "Render a KITTI-driven RGB-D scene (colour, depth, instance masks, exact ground truth) in the "
                       "VDO-SLAM layout; starts its own Xvfb when DISPLAY is unset");
-  render_cmd->add_option("--kitti", render.kitti_dir, "KITTI tracking data directory (KITTI or VDO-SLAM layout)")
-      ->required()
-      ->check(CLI::ExistingDirectory);
-  render_cmd->add_option("--seq", render.sequence, "Sequence number, e.g. 0000")->required();
-  render_cmd->add_option("--frames", render.frames, "Frames to render (0: all)")->capture_default_str();
+  auto* kitti_opt = render_cmd
+                        ->add_option("--kitti", render.kitti_dir,
+                                     "KITTI tracking data directory (KITTI or VDO-SLAM layout), with --seq")
+                        ->check(CLI::ExistingDirectory);
+  render_cmd->add_option("--seq", render.sequence, "Sequence number, e.g. 0000")->needs(kitti_opt);
+  render_cmd->add_option("--scenario", render.scenario, "Or a simulator scenario with box objects: city")
+      ->excludes(kitti_opt)
+      ->check(CLI::IsMember({"city"}));
+  render_cmd->add_option("--frames", render.frames, "Frames to render (0: all; a scenario's default length)")
+      ->capture_default_str();
   render_cmd->add_option("--scale", render.scale, "Image size relative to 1242x375, intrinsics scaled alike")
       ->capture_default_str();
   render_cmd->add_option("--image-noise", render.image_noise, "Colour noise sigma, grey levels")->capture_default_str();

@@ -9,6 +9,7 @@
 #include "render/rgbd_renderer.h"
 #include "render/sensor_noise.h"
 #include "render/vdo_writer.h"
+#include "simulation/scenarios.h"
 #include "simulation/scene_builder.h"
 
 namespace dslam {
@@ -20,12 +21,27 @@ int RunRenderSceneCommand(const RenderSceneOptions& options, std::ostream& out, 
     const SensorNoise noise{options.image_noise, options.depth_noise_m, options.depth_noise_per_m2};
     if (noise.image_sigma < 0.0 || noise.depth_sigma_m < 0.0 || noise.depth_sigma_per_m2 < 0.0)
       throw std::invalid_argument("noise sigmas must be >= 0");
-    const KittiGroundTruthSequence gt = LoadKittiGroundTruth(options.kitti_dir, options.sequence);
-    const Scene scene = SceneFromKitti(gt);
+    if (options.kitti_dir.empty() == options.scenario.empty())
+      throw std::invalid_argument("give either --kitti DIR --seq SSSS or --scenario NAME");
+    Scene scene;
     CameraIntrinsics camera;
-    if (gt.calibration) {
-      camera.fx = gt.calibration->fx(), camera.fy = gt.calibration->fy();
-      camera.cx = gt.calibration->cx(), camera.cy = gt.calibration->cy();
+    std::string what;
+    if (!options.kitti_dir.empty()) {
+      const KittiGroundTruthSequence gt = LoadKittiGroundTruth(options.kitti_dir, options.sequence);
+      scene = SceneFromKitti(gt);
+      if (gt.calibration) {
+        camera.fx = gt.calibration->fx(), camera.fy = gt.calibration->fy();
+        camera.cx = gt.calibration->cx(), camera.cy = gt.calibration->cy();
+      }
+      what = "KITTI " + options.sequence;
+    } else {
+      ScenarioOptions scenario;
+      scenario.num_frames = options.frames;
+      scenario.seed = options.seed;
+      scene = SceneFromSequence(MakeScenario(options.scenario, scenario));
+      if (scene.objects.empty())
+        throw std::invalid_argument("scenario '" + options.scenario + "' has no box objects to render (try city)");
+      what = "scenario " + options.scenario;
     }
     camera.width = static_cast<int>(std::lround(camera.width * options.scale));
     camera.height = static_cast<int>(std::lround(camera.height * options.scale));
@@ -59,7 +75,7 @@ int RunRenderSceneCommand(const RenderSceneOptions& options, std::ostream& out, 
       }
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    out << "Rendered " << frames << " frames of KITTI " << options.sequence << " at " << camera.width << "x"
+    out << "Rendered " << frames << " frames of " << what << " at " << camera.width << "x"
         << camera.height << " in " << seconds << " s (" << frames / seconds << " frames/s, with writing) to "
         << options.out_dir << std::endl;
     return 0;

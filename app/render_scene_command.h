@@ -6,8 +6,9 @@
 namespace dslam {
 
 struct RenderSceneOptions {
-  std::string kitti_dir;   // KITTI tracking data (either layout)
+  std::string kitti_dir;   // KITTI tracking data (either layout), or
   std::string sequence;    // e.g. 0000
+  std::string scenario;    // a simulator scenario with box objects ("city")
   int frames = 0;          // 0: the whole sequence
   double scale = 1.0;      // image size and intrinsics relative to KITTI's 1242x375
   std::string out_dir = "results/render";

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <unordered_map>
@@ -18,6 +19,7 @@ struct ObjectGroundTruth {
   std::map<int, SE3> L_world_object;   // object pose per frame (body frame: dataset-defined)
   std::map<int, Vec3> centroid_world;  // reference point whose displacement defines the true speed
   std::set<int> observed_frames;       // frames in which the sensor sees it (after range gating)
+  std::optional<Vec3> box_lwh;         // box size (length, width, height) when the object is a box
 };
 
 struct GroundTruth {

@@ -57,6 +57,7 @@ SimObject CityCar(int id, const GroundPose& start, const std::function<SpeedComm
   const double l = 4.2, w = 1.8, h = 1.5;
   car.surface = SampleBox(l, w, h, 0.45);
   car.centroid_body = Vec3(0.0, -h / 2.0, 0.0);
+  car.box_lwh = Vec3(l, w, h);
   const auto path = IntegrateUnicycle(start, command, last_frame - first_frame, kFps);
   for (int k = first_frame; k < last_frame; ++k)
     car.L_world_object[k] = VehiclePoseOnGround(path[k - first_frame], kGroundY);

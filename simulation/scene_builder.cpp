@@ -65,4 +65,23 @@ Scene SceneFromKitti(const KittiGroundTruthSequence& gt, const StaticWorldOption
   return scene;
 }
 
+Scene SceneFromSequence(const Sequence& seq, const StaticWorldOptions& options) {
+  Scene scene;
+  scene.name = seq.name;
+  scene.frame_rate_hz = seq.frame_rate_hz;
+  scene.T_world_camera = seq.gt.T_world_camera;
+  scene.static_quads = StaticWorldAlongPath(seq.gt.T_world_camera, options);
+  for (const auto& [id, o] : seq.gt.objects) {
+    if (!o.box_lwh) continue;
+    SceneObject obj;
+    obj.object_id = id;
+    obj.category = o.category;
+    obj.l = o.box_lwh->x(), obj.w = o.box_lwh->y(), obj.h = o.box_lwh->z();
+    obj.texture_seed = 1000 + static_cast<uint32_t>(id);
+    obj.L_world_object = o.L_world_object;
+    scene.objects.push_back(std::move(obj));
+  }
+  return scene;
+}
+
 }  // namespace dslam

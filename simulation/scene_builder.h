@@ -5,6 +5,7 @@
 
 #include "data/kitti_dataset.h"
 #include "data/scene.h"
+#include "data/sequence.h"
 
 namespace dslam {
 
@@ -20,5 +21,8 @@ struct StaticWorldOptions {
 std::vector<StaticQuad> StaticWorldAlongPath(const std::vector<SE3>& T_world_camera, const StaticWorldOptions& options);
 
 Scene SceneFromKitti(const KittiGroundTruthSequence& gt, const StaticWorldOptions& options = {});
+// From a simulated sequence's ground truth (objects without a box size, e.g. the paper's ellipsoid, are
+// left out).
+Scene SceneFromSequence(const Sequence& seq, const StaticWorldOptions& options = {});
 
 }  // namespace dslam

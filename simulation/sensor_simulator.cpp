@@ -66,6 +66,7 @@ Sequence SimulateSensor(const SimWorld& world, const SensorModel& sensor, const 
     ObjectGroundTruth& o = gt.objects[obj.object_id];
     o.object_id = obj.object_id;
     o.category = obj.category;
+    o.box_lwh = obj.box_lwh;
     for (const auto& [k, L] : obj.L_world_object) {
       o.L_world_object[k] = T_new_old * L;
       o.centroid_world[k] = o.L_world_object[k] * obj.centroid_body;

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -43,6 +44,7 @@ struct SimObject {
   Vec3 centroid_body = Vec3::Zero();
   std::map<int, SE3> L_world_object;  // pose per frame in which the object exists
   std::set<int> occluded_frames;    // frames in which something hides it completely
+  std::optional<Vec3> box_lwh;      // when the object is a KITTI-convention box: length, width, height
 };
 
 struct SimWorld {

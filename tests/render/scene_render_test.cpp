@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <set>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
@@ -114,6 +115,33 @@ TEST_F(RenderScene, EnoughTextureToTrackFeaturesBetweenFrames) {
     good += ok_f[i] && ok_b[i] && cv::norm(corners[i] - backward[i]) < 1.0;
   std::cout << "features: " << corners.size() << " detected, " << good << " tracked forward-backward under 1 px\n";
   EXPECT_GE(good, 500);
+}
+
+TEST(RenderSceneCommand, RendersTheSimulatedCityAndRejectsBadArguments) {
+  const std::string dir = test::TempDir("render_city");
+  RenderSceneOptions o;
+  o.scenario = "city";
+  o.frames = 3;
+  o.scale = 0.5;
+  o.out_dir = dir;
+  o.quiet = true;
+  std::ostringstream out, err;
+  const char* display = std::getenv("DISPLAY");
+  const std::string saved = display ? display : "";
+  ::unsetenv("DISPLAY");
+  ASSERT_EQ(RunRenderSceneCommand(o, out, err), 0) << err.str();
+  const InstanceMask mask = ReadSemanticTxt(dir + "/semantic/000002.txt");
+  EXPECT_EQ(mask.width, 621);
+  std::set<int> ids(mask.ids.begin(), mask.ids.end());
+  EXPECT_GE(ids.size(), 4u);  // background and several cars
+  EXPECT_EQ(ReadPoseGt(dir + "/pose_gt.txt").size(), 3u);
+  o.kitti_dir = "/tmp";  // both sources at once
+  EXPECT_EQ(RunRenderSceneCommand(o, out, err), 2);
+  o.kitti_dir.clear();
+  o.scale = -1.0;
+  EXPECT_EQ(RunRenderSceneCommand(o, out, err), 2);
+  if (!saved.empty()) ::setenv("DISPLAY", saved.c_str(), 1);
+  fs::remove_all(dir);
 }
 
 }  // namespace
