@@ -15,6 +15,7 @@
 #include "pipeline/run_sequence.h"
 #include "render/headless_display.h"
 #include "simulation/scenarios.h"
+#include "support/no_display.h"
 #include "support/temp_paths.h"
 
 namespace dslam {
@@ -80,16 +81,7 @@ bool ColourNear(const Png& png, int x, int y, const std::array<unsigned char, 3>
 
 class Figures : public ::testing::Test {
  protected:
-  void SetUp() override {
-    // The project's own display handling, as on a headless server.
-    const char* display = std::getenv("DISPLAY");
-    saved_display_ = display ? display : "";
-    ::unsetenv("DISPLAY");
-  }
-  void TearDown() override {
-    if (!saved_display_.empty()) ::setenv("DISPLAY", saved_display_.c_str(), 1);
-  }
-  std::string saved_display_;
+  test::ScopedNoDisplay headless_;  // the project's own display handling, as on a headless server
 };
 
 TEST_F(Figures, TrajectoryShowsGroundTruthAndEstimateWhereTheyMustPass) {

@@ -14,6 +14,7 @@
 #include "data/dense_maps.h"
 #include "data/kitti_dataset.h"
 #include "data/kitti_tracking.h"
+#include "support/no_display.h"
 #include "support/temp_paths.h"
 
 namespace dslam {
@@ -34,11 +35,8 @@ class RenderScene : public ::testing::Test {
     o.out_dir = *dir_;
     o.quiet = true;
     std::ostringstream out, err;
-    const char* display = std::getenv("DISPLAY");
-    const std::string saved = display ? display : "";
-    ::unsetenv("DISPLAY");  // the project's own headless handling
+    const test::ScopedNoDisplay headless;  // the project's own headless handling
     code_ = RunRenderSceneCommand(o, out, err);
-    if (!saved.empty()) ::setenv("DISPLAY", saved.c_str(), 1);
     log_ = new std::string(out.str() + err.str());
   }
   static void TearDownTestSuite() {
@@ -126,9 +124,7 @@ TEST(RenderSceneCommand, RendersTheSimulatedCityAndRejectsBadArguments) {
   o.out_dir = dir;
   o.quiet = true;
   std::ostringstream out, err;
-  const char* display = std::getenv("DISPLAY");
-  const std::string saved = display ? display : "";
-  ::unsetenv("DISPLAY");
+  const test::ScopedNoDisplay headless;
   ASSERT_EQ(RunRenderSceneCommand(o, out, err), 0) << err.str();
   const InstanceMask mask = ReadSemanticTxt(dir + "/semantic/000002.txt");
   EXPECT_EQ(mask.width, 621);
@@ -140,7 +136,6 @@ TEST(RenderSceneCommand, RendersTheSimulatedCityAndRejectsBadArguments) {
   o.kitti_dir.clear();
   o.scale = -1.0;
   EXPECT_EQ(RunRenderSceneCommand(o, out, err), 2);
-  if (!saved.empty()) ::setenv("DISPLAY", saved.c_str(), 1);
   fs::remove_all(dir);
 }
 
