@@ -132,15 +132,16 @@ struct RgbdRenderer::Impl {
     grab->Update();
     vtkImageData* image = grab->GetOutput();
     const int w = camera.width, h = camera.height;
+    const int channels = image->GetNumberOfScalarComponents();
     for (int y = 0; y < h; ++y) {
-      const int v = h - 1 - y;  // VTK rows start at the bottom
-      for (int u = 0; u < w; ++u) {
-        if (depth) {
-          (*z)[static_cast<size_t>(v) * w + u] = *static_cast<float*>(image->GetScalarPointer(u, y, 0));
-        } else {
-          const auto* p = static_cast<uint8_t*>(image->GetScalarPointer(u, y, 0));
-          for (int c = 0; c < 3; ++c) (*rgb)[3 * (static_cast<size_t>(v) * w + u) + c] = p[c];
-        }
+      const size_t v = static_cast<size_t>(h - 1 - y);  // VTK rows start at the bottom
+      if (depth) {
+        const auto* row = static_cast<const float*>(image->GetScalarPointer(0, y, 0));
+        std::copy(row, row + w, z->begin() + v * w);
+      } else {
+        const auto* row = static_cast<const uint8_t*>(image->GetScalarPointer(0, y, 0));
+        for (int u = 0; u < w; ++u)
+          for (int c = 0; c < 3; ++c) (*rgb)[3 * (v * w + u) + c] = row[channels * u + c];
       }
     }
   }

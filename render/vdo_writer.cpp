@@ -5,6 +5,7 @@
 #include <vtkPNGWriter.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -76,10 +77,19 @@ void VdoWriter::write(int k, const RgbdFrame& f) {
   WritePng<uint16_t>(dir_ + "/mask/" + Name(k, "png"), w, h, 1, VTK_UNSIGNED_SHORT,
                      [&](int u, int v, int) { return f.id(u, v); });
   {
+    // Formatted by hand: a KITTI-sized mask is half a million numbers.
+    std::string text;
+    text.reserve(static_cast<size_t>(w) * h * 3);
+    char buf[8];
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u) {
+        const auto end = std::to_chars(buf, buf + sizeof buf, f.id(u, v)).ptr;
+        text.append(buf, end);
+        text.push_back(u + 1 < w ? ' ' : '\n');
+      }
     std::ofstream sem = Open(dir_ + "/semantic/" + Name(k, "txt"));
-    for (int v = 0; v < h; ++v) {
-      for (int u = 0; u < w; ++u) sem << f.id(u, v) << (u + 1 < w ? ' ' : '\n');
-    }
+    sem << text;
+    if (!sem) throw std::runtime_error("error while writing " + dir_ + "/semantic/" + Name(k, "txt"));
   }
 
   const SE3& T = scene_.T_world_camera[k];
