@@ -27,13 +27,8 @@ void Estimator::addFrame(const FrameMeasurement& frame) {
   if (params_.schedule.kind != ScheduleKind::kSlidingWindow) return;
 
   const auto start = std::chrono::steady_clock::now();
-  SolveOptions solve;
-  solve.first_frame = k - params_.schedule.window_frames + 1;
-  solve.last_frame = k;
-  solve.max_iterations = params_.max_iterations_window;
+  SolveOptions solve = solveOptions(k - params_.schedule.window_frames + 1, k, params_.max_iterations_window);
   solve.function_tolerance = params_.window_function_tolerance;
-  solve.num_threads = params_.num_threads;
-  solve.fix_cameras = options_.fixed_T_world_camera != nullptr;
   solve.history_frames = params_.window_history_frames;
   const SolveSummary summary = SolveGraph(params_, solve, &graph_);
   solve_residual_blocks_.push_back(summary.num_residual_blocks);
@@ -43,16 +38,19 @@ void Estimator::addFrame(const FrameMeasurement& frame) {
 }
 
 Estimate Estimator::finish() {
-  if (params_.schedule.kind == ScheduleKind::kBatch) {
-    SolveOptions solve;
-    solve.first_frame = 0;
-    solve.last_frame = graph_.numFrames() - 1;
-    solve.max_iterations = params_.max_iterations_batch;
-    solve.num_threads = params_.num_threads;
-    solve.fix_cameras = options_.fixed_T_world_camera != nullptr;
-    SolveGraph(params_, solve, &graph_);
-  }
+  if (params_.schedule.kind == ScheduleKind::kBatch)
+    SolveGraph(params_, solveOptions(0, graph_.numFrames() - 1, params_.max_iterations_batch), &graph_);
   return extract();
+}
+
+SolveOptions Estimator::solveOptions(int first_frame, int last_frame, int max_iterations) const {
+  SolveOptions solve;
+  solve.first_frame = first_frame;
+  solve.last_frame = last_frame;
+  solve.max_iterations = max_iterations;
+  solve.num_threads = params_.num_threads;
+  solve.fix_cameras = options_.fixed_T_world_camera != nullptr;
+  return solve;
 }
 
 Estimate Estimator::extract() const {

@@ -8,6 +8,7 @@
 #include "backend/estimate.h"
 #include "backend/factor_graph.h"
 #include "backend/graph_builder.h"
+#include "backend/graph_solver.h"
 
 namespace dslam {
 
@@ -34,6 +35,7 @@ class Estimator {
 
  private:
   Estimate extract() const;
+  SolveOptions solveOptions(int first_frame, int last_frame, int max_iterations) const;
 
   BackendParams params_;
   double frame_rate_hz_;
