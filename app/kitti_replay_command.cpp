@@ -38,8 +38,7 @@ int RunKittiReplayCommand(const KittiReplayCommandOptions& options, std::ostream
     info["sources"] = gt.sources;
     info["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     WriteRunOutputs(options.out_dir, seq, outcomes, info);
-    const auto objects = SummariseObjects(seq, outcomes.at(Method::kOurs).result.estimate);
-    WriteObjectsCsv(options.out_dir + "/objects.csv", objects);
+    const auto objects = SummariseObjects(seq, outcomes.at(Method::kOurs).result.estimate);  // for the table
 
     const std::string what = options.category.empty() ? "all objects" : options.category + " objects";
     out << FormatMetricsTable(outcomes, "KITTI " + options.sequence + " ground-truth replay (" + what + " within " +

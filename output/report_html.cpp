@@ -1,7 +1,6 @@
 #include "output/report_html.h"
 
 #include <fstream>
-#include <map>
 #include <stdexcept>
 
 #include "output/text_format.h"
@@ -57,8 +56,11 @@ void WriteReportHtml(const RunResults& r, const std::vector<std::string>& figure
   }
   out << "</table>\n";
 
-  out << "<h2>Objects (ours)</h2>\n<table><tr>";
-  if (!r.objects_header.empty()) {
+  out << "<h2>Objects (ours)</h2>\n";
+  if (r.objects_header.empty()) {
+    out << "<p>No objects.csv in this result directory.</p>\n";
+  } else {
+    out << "<table><tr>";
     for (const auto& h : r.objects_header) out << "<th>" << Escape(h) << "</th>";
     out << "</tr>\n";
     for (const auto& row : r.objects_rows) {
@@ -66,29 +68,9 @@ void WriteReportHtml(const RunResults& r, const std::vector<std::string>& figure
       for (const auto& cell : row) out << "<td>" << Escape(cell) << "</td>";
       out << "</tr>\n";
     }
-  } else {
-    // No objects.csv (simulation runs): summarise the speed table.
-    struct Acc {
-      int pairs = 0, estimated = 0;
-      double gt = 0, est = 0;
-    };
-    std::map<int, Acc> acc;
-    for (const auto& s : r.speeds) {
-      Acc& a = acc[s.object_id];
-      ++a.pairs;
-      if (!s.estimated) continue;
-      ++a.estimated;
-      a.gt += s.gt_mps;
-      a.est += s.est_mps;
-    }
-    out << "<th>object_id</th><th>frame pairs estimated</th><th>mean gt speed (km/h)</th>"
-           "<th>mean est speed (km/h)</th></tr>\n";
-    for (const auto& [id, a] : acc)
-      out << "<tr><td>" << id << "</td><td>" << a.estimated << "/" << a.pairs << "</td><td>"
-          << (a.estimated ? FormatFixed(a.gt / a.estimated * 3.6, 1, "-") : "-") << "</td><td>"
-          << (a.estimated ? FormatFixed(a.est / a.estimated * 3.6, 1, "-") : "-") << "</td></tr>\n";
+    out << "</table>\n";
   }
-  out << "</table>\n<h2>Figures</h2>\n";
+  out << "<h2>Figures</h2>\n";
   for (const auto& f : figure_files) out << "<p><img src=\"" << Escape(f) << "\" alt=\"" << Escape(f) << "\"></p>\n";
   out << "<p>Run record: <code>" << Escape(r.metrics.value("run", nlohmann::json::object()).dump()) << "</code></p>\n";
   out << "</body></html>\n";

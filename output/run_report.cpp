@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "output/object_summary.h"
 #include "output/text_format.h"
 #include "output/trajectory_io.h"
 
@@ -139,6 +140,7 @@ void WriteRunOutputs(const std::string& dir, const Sequence& seq, const MethodOu
     if (method == Method::kOurs) {
       WriteObjectTables(dir, "", seq, outcome.result.estimate);
       WriteMapPoints(dir + "/map_points.csv", outcome.result.estimate);
+      WriteObjectsCsv(dir + "/objects.csv", SummariseObjects(seq, outcome.result.estimate));
     }
     if (method == Method::kSlamMot) WriteObjectTables(dir, "_slam_mot", seq, outcome.result.estimate);
   }

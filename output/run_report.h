@@ -26,7 +26,8 @@ nlohmann::json MethodMetricsJson(const MethodMetrics& metrics, double wall_time_
 // Writes into `dir` (created if needed): metrics.json, camera_{gt,ours,static_only,slam_mot}.{tum,kitti},
 // object_motions.csv and object_speeds.csv (ours), object_motions_slam_mot.csv, object_speeds_slam_mot.csv,
 // object_centroids_gt.csv (frame,object_id,category,observed,x,y,z) and map_points.csv (ours:
-// frame,object_id,x,y,z; static landmarks once with frame -1 and object_id -1).
+// frame,object_id,x,y,z; static landmarks once with frame -1 and object_id -1) and objects.csv (ours, one
+// row per object, see output/object_summary.h).
 void WriteRunOutputs(const std::string& dir, const Sequence& seq, const MethodOutcomes& outcomes,
                      const nlohmann::json& run_info);
 

@@ -35,7 +35,7 @@ TEST(RunReport, WritesEveryResultFile) {
   WriteRunOutputs(dir, seq, outcomes, {{"command", "test"}});
   for (const char* f : {"metrics.json", "camera_gt.tum", "camera_ours.tum", "camera_static_only.tum",
                         "camera_slam_mot.tum", "camera_ours.kitti", "object_motions.csv", "object_speeds.csv",
-                        "object_motions_slam_mot.csv"})
+                        "object_motions_slam_mot.csv", "objects.csv", "map_points.csv", "object_centroids_gt.csv"})
     EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
   const auto metrics = nlohmann::json::parse(std::ifstream(dir + "/metrics.json"));
   for (const char* method : {"ours", "slam_mot", "static_only"}) EXPECT_TRUE(metrics["methods"].contains(method));
