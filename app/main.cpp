@@ -6,6 +6,7 @@
 #include "app/figures_command.h"
 #include "app/kitti_replay_command.h"
 #include "app/render_scene_command.h"
+#include "app/run_command.h"
 #include "app/sim_command.h"
 
 namespace {
@@ -106,7 +107,35 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--out", render.out_dir, "Output directory")->capture_default_str();
   render_cmd->add_flag("--quiet", render.quiet, "Print only errors and the summary");
 
+  dslam::RunCommandOptions run;
+  CLI::App* run_cmd = app.add_subcommand(
+      "run", "Run the image front-end and the back-end on a recorded or rendered image sequence (VDO-SLAM / DynoSAM "
+             "layout, KITTI tracking or KITTI raw); evaluate ours, static-only and SLAM+MOT when it has ground truth");
+  run_cmd->add_option("--dataset", run.dataset_dir, "Dataset directory (see README: image datasets)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  run_cmd->add_option("--seq", run.sequence, "KITTI tracking layout: sequence number, e.g. 0000");
+  run_cmd->add_option("--flow", run.flow, "Optical flow: lk, dis or precomputed (default: frontend.flow_method, lk)")
+      ->check(CLI::IsMember({"lk", "dis", "precomputed"}));
+  run_cmd->add_option("--frames", run.frames, "Use only the first N frames (0: all)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  run_cmd->add_option("--mode", run.mode,
+                      std::string("Object motion model: per-step, constant or smoothed (default ") +
+                          dslam::kRunDefaultMode + ")");
+  run_cmd->add_option("--schedule", run.schedule, "Solver schedule: batch (default) or window:W");
+  run_cmd->add_option("--sigma", run.sigma_m, "Point measurement sigma per axis assumed by the back-end, metres")
+      ->capture_default_str();
+  run_cmd->add_option("--category", run.category, "Object category the metrics cover (empty = all)")
+      ->capture_default_str();
+  run_cmd->add_option("--config", run.config_path, "YAML run configuration (see config/default.yaml)")
+      ->check(CLI::ExistingFile);
+  run_cmd->add_option("--out", run.out_dir, "Output directory")->capture_default_str();
+  run_cmd->add_flag("--quiet", run.quiet, "Print only errors");
+  AddFigureFlags(run_cmd, &run);
+
   CLI11_PARSE(app, argc, argv);
+  if (run_cmd->parsed()) return dslam::RunRunCommand(run, std::cout, std::cerr);
   if (render_cmd->parsed()) return dslam::RunRenderSceneCommand(render, std::cout, std::cerr);
   if (sim_cmd->parsed()) return dslam::RunSimCommand(sim, std::cout, std::cerr);
   if (replay_cmd->parsed()) return dslam::RunKittiReplayCommand(replay, std::cout, std::cerr);

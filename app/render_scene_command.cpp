@@ -5,12 +5,14 @@
 #include <exception>
 
 #include "data/kitti_dataset.h"
+#include "data/odometry_file.h"
 #include "render/headless_display.h"
 #include "render/rgbd_renderer.h"
 #include "render/sensor_noise.h"
 #include "render/vdo_writer.h"
 #include "simulation/scenarios.h"
 #include "simulation/scene_builder.h"
+#include "simulation/sensor_simulator.h"
 
 namespace dslam {
 
@@ -74,6 +76,12 @@ int RunRenderSceneCommand(const RenderSceneOptions& options, std::ostream& out, 
         out << "  frame " << k + 1 << "/" << frames << ", " << (k + 1) / s << " frames/s" << std::endl;
       }
     }
+    // A vehicle's odometry beside the images: the true increments with DESIGN.md §5 noise, seeded.
+    std::mt19937_64 rng(options.seed * 2862933555777941757ULL + 3037000493ULL);
+    std::map<int, OdometryMeasurement> odometry;
+    for (int k = 1; k < frames; ++k)
+      odometry[k] = NoisyOdometry(scene.T_world_camera[k - 1].inverse() * scene.T_world_camera[k], SimNoise{}, rng);
+    WriteOdometryFile(options.out_dir + "/odometry.txt", odometry);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out << "Rendered " << frames << " frames of " << what << " at " << camera.width << "x"
         << camera.height << " in " << seconds << " s (" << frames / seconds << " frames/s, with writing) to "

@@ -53,7 +53,10 @@ void GraphBuilder::addFrame(const FrameMeasurement& frame, const SE3* T_world_ca
     T_world_camera = graph_->T_world_camera0_prior;
   } else {
     T_world_camera = BlockToPose(graph_->camera_poses[k - 1].data());
-    if (frame.odometry) T_world_camera = T_world_camera * frame.odometry->T_prev_curr;
+    if (frame.camera_motion_guess)
+      T_world_camera = T_world_camera * *frame.camera_motion_guess;
+    else if (frame.odometry)
+      T_world_camera = T_world_camera * frame.odometry->T_prev_curr;
   }
   graph_->camera_poses.emplace_back();
   PoseToBlock(T_world_camera, graph_->camera_poses.back().data());

@@ -113,4 +113,28 @@ KittiGroundTruthSequence LoadKittiGroundTruth(const std::string& dir_in, const s
   return out;
 }
 
+GroundTruth ToGroundTruth(const KittiGroundTruthSequence& gt, int num_frames, double object_max_range_m,
+                          const std::function<bool(int, int)>& visible) {
+  if (num_frames > static_cast<int>(gt.T_world_camera.size()))
+    throw std::invalid_argument("ground truth has " + std::to_string(gt.T_world_camera.size()) + " poses for " +
+                                std::to_string(num_frames) + " frames");
+  GroundTruth out;
+  out.T_world_camera.assign(gt.T_world_camera.begin(), gt.T_world_camera.begin() + num_frames);
+  for (const auto& [id, track] : gt.objects) {
+    ObjectGroundTruth o;
+    o.object_id = id;
+    o.category = track.category;
+    o.box_lwh = Vec3(track.l, track.w, track.h);
+    const Vec3 centroid_body(0.0, -track.h / 2.0, 0.0);
+    for (const auto& [k, T_camera_object] : track.T_camera_object) {
+      if (k >= num_frames) continue;
+      o.L_world_object[k] = out.T_world_camera[k] * T_camera_object;
+      o.centroid_world[k] = o.L_world_object[k] * centroid_body;
+      if ((T_camera_object * centroid_body).norm() < object_max_range_m && visible(k, id)) o.observed_frames.insert(k);
+    }
+    if (!o.L_world_object.empty()) out.objects[id] = std::move(o);
+  }
+  return out;
+}
+
 }  // namespace dslam

@@ -7,11 +7,13 @@
 // Objects come from label_02 (with their box sizes) when present, else from object_pose.txt with a
 // typical size per category. Object ids follow VDO-SLAM: object_id = track_id + 1.
 
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "data/ground_truth.h"
 #include "data/kitti_tracking.h"
 
 namespace dslam {
@@ -36,5 +38,12 @@ struct KittiGroundTruthSequence {
 
 // Throws std::runtime_error naming the missing or malformed file.
 KittiGroundTruthSequence LoadKittiGroundTruth(const std::string& dir, const std::string& seq);
+
+// The evaluation's ground truth for the first `num_frames` frames: camera poses, object poses and
+// centroids (DESIGN.md §5: (X, Y - h/2, Z) in the box frame). An object counts as observed in frame k
+// when it is labelled there, its centroid is closer to the camera than `object_max_range_m` and
+// `visible(k, object_id)` says the sensor saw it (e.g. its instance mask is large enough).
+GroundTruth ToGroundTruth(const KittiGroundTruthSequence& gt, int num_frames, double object_max_range_m,
+                          const std::function<bool(int, int)>& visible);
 
 }  // namespace dslam

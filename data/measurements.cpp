@@ -15,6 +15,9 @@ std::string FindInvalidMeasurement(const FrameMeasurement& frame) {
     if (!o.sigma.allFinite() || (o.sigma.array() <= 0.0).any())
       return where + "odometry sigmas must be positive and finite";
   }
+  if (frame.camera_motion_guess && (!frame.camera_motion_guess->translation().allFinite() ||
+                                    !frame.camera_motion_guess->rotation().coeffs().allFinite()))
+    return where + "camera motion guess is not finite";
   for (const auto& p : frame.static_points)
     if (!p.p_camera.allFinite()) return where + "static point track " + std::to_string(p.track_id) + " is not finite";
   std::set<int> ids;

@@ -36,6 +36,9 @@ struct FrameMeasurement {
   int frame_index = 0;
   int64_t t_ns = 0;
   std::optional<OdometryMeasurement> odometry;  // absent on the first frame
+  // The front-end's own estimate of T_prev_curr (PnP on static points, fused with the odometry): an
+  // initial value for the back-end, not a measurement. Absent: the back-end starts from the odometry.
+  std::optional<SE3> camera_motion_guess;
   std::vector<PointObservation> static_points;   // background points
   std::vector<ObjectObservation> objects;
 };

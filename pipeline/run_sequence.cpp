@@ -19,8 +19,9 @@ MethodOutcomes RunSequence(const Sequence& seq, const RunConfig& config, const R
     }
     MethodOutcome outcome;
     outcome.result = RunMethod(method, config.backend, seq.frame_rate_hz, frames, progress);
-    outcome.metrics = EvaluateEstimate(seq, outcome.result.estimate, method != Method::kStaticOnly,
-                                       options.object_category);
+    if (options.evaluate)
+      outcome.metrics = EvaluateEstimate(seq, outcome.result.estimate, method != Method::kStaticOnly,
+                                         options.object_category);
     outcomes[method] = std::move(outcome);
   }
   return outcomes;

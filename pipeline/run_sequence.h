@@ -14,6 +14,7 @@ struct RunSequenceOptions {
   std::vector<Method> methods = {Method::kOurs, Method::kStaticOnly, Method::kSlamMot};
   std::ostream* progress = nullptr;  // progress lines on long runs; nullptr = quiet
   std::string object_category;       // object metrics over this category only (empty: all)
+  bool evaluate = true;              // false without ground truth: metrics stay empty
 };
 
 MethodOutcomes RunSequence(const Sequence& seq, const RunConfig& config, const RunSequenceOptions& options = {});

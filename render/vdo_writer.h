@@ -2,7 +2,7 @@
 // Writes rendered frames and their exact ground truth in the VDO-SLAM / DynoSAM layout:
 //   image_0/NNNNNN.png (colour), depth/NNNNNN.png (16-bit depth in millimetres, 0 = none),
 //   mask/NNNNNN.png (16-bit instance ids), semantic/NNNNNN.txt (VDO text masks),
-//   pose_gt.txt, object_pose.txt, object_category.txt, times.txt, calib.txt.
+//   pose_gt.txt, object_pose.txt, object_category.txt, times.txt, calib.txt (odometry.txt: render-scene).
 
 #include <fstream>
 #include <string>

@@ -13,6 +13,8 @@ Vec3 GaussianVec3(std::mt19937_64& rng, double sigma) {
   return Vec3(n(rng), n(rng), n(rng));
 }
 
+}  // namespace
+
 OdometryMeasurement NoisyOdometry(const SE3& T_prev_curr_true, const SimNoise& noise, std::mt19937_64& rng) {
   OdometryMeasurement odom;
   const double sigma_t =
@@ -23,13 +25,6 @@ OdometryMeasurement NoisyOdometry(const SE3& T_prev_curr_true, const SimNoise& n
   xi << GaussianVec3(rng, sigma_t), GaussianVec3(rng, sigma_r);
   odom.T_prev_curr = T_prev_curr_true * SE3::Exp(xi);
   return odom;
-}
-}  // namespace
-
-bool PinholeCamera::inImage(const Vec3& p) const {
-  if (p.z() <= 0.0) return false;
-  const double u = fx * p.x() / p.z() + cx, v = fy * p.y() / p.z() + cy;
-  return u >= 0.0 && u < width && v >= 0.0 && v < height;
 }
 
 void SimNoise::validate() const {

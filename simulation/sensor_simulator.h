@@ -5,20 +5,16 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <random>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "data/sequence.h"
+#include "geometry/pinhole_camera.h"
 #include "simulation/shapes.h"
 
 namespace dslam {
-
-struct PinholeCamera {
-  double fx = 721.5377, fy = 721.5377, cx = 609.5593, cy = 172.854;
-  int width = 1242, height = 375;
-  bool inImage(const Vec3& p_camera) const;
-};
 
 struct SensorModel {
   PinholeCamera camera;
@@ -54,6 +50,10 @@ struct SimWorld {
   std::vector<Vec3> static_points_world;
   std::vector<SimObject> objects;
 };
+
+// An odometry increment with DESIGN.md §5 noise: per-axis sigmas proportional to the step (with floors),
+// the true increment perturbed on the right.
+OdometryMeasurement NoisyOdometry(const SE3& T_prev_curr_true, const SimNoise& noise, std::mt19937_64& rng);
 
 Sequence SimulateSensor(const SimWorld& world, const SensorModel& sensor, const SimNoise& noise, uint64_t seed);
 

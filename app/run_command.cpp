@@ -1,0 +1,75 @@
+#include "app/run_command.h"
+
+#include <chrono>
+#include <exception>
+
+#include "output/object_summary.h"
+#include "pipeline/image_run.h"
+#include "pipeline/run_sequence.h"
+
+namespace dslam {
+
+int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostream& err) {
+  try {
+    const auto start = std::chrono::steady_clock::now();
+    RunConfig config = BuildRunConfig(options, kRunDefaultMode);
+    if (options.flow) config.frontend.flow.method = ParseFlowMethod(*options.flow);
+    if (options.frames < 0) throw std::invalid_argument("--frames must be >= 0");
+    ImageDatasetOptions dataset_options = config.dataset;
+    dataset_options.sequence = options.sequence;
+    const ImageDataset dataset(options.dataset_dir, dataset_options);
+    if (config.frontend.flow.method == FlowMethod::kPrecomputed && !dataset.hasFlow())
+      throw std::invalid_argument(options.dataset_dir + " has no flow/ folder for flow method 'precomputed'");
+    if (!options.quiet)
+      out << "Dataset " << options.dataset_dir << " (" << dataset.layout() << "): " << dataset.size() << " frames "
+          << dataset.camera().width << "x" << dataset.camera().height << ", masks " << (dataset.hasMasks() ? "yes" : "no")
+          << ", odometry " << (dataset.hasOdometry() ? "yes" : "no") << ", ground truth "
+          << (dataset.groundTruth() ? "yes" : "no") << "; flow " << ToString(config.frontend.flow.method) << std::endl;
+
+    ImageRunSummary summary;
+    const Sequence seq = RunImageFrontend(dataset, config, options.frames, options.quiet ? nullptr : &out, &summary);
+
+    RunSequenceOptions run;
+    run.progress = options.quiet ? nullptr : &out;
+    run.object_category = options.category;
+    run.evaluate = summary.has_ground_truth;
+    const MethodOutcomes outcomes = RunSequence(seq, config, run);
+
+    nlohmann::json info = RunInfo("run", options, config);
+    info["dataset"] = options.dataset_dir;
+    info["layout"] = dataset.layout();
+    info["frames"] = seq.frames.size();
+    info["flow_method"] = ToString(config.frontend.flow.method);
+    info["object_category"] = options.category;
+    info["object_max_distance_m"] = config.frontend.object_max_distance_m;
+    info["frontend"] = {{"ms_per_frame", summary.frontend_ms_per_frame},
+                        {"read_ms_per_frame", summary.read_ms_per_frame},
+                        {"mean_static_points", summary.mean_static_tracks},
+                        {"mean_object_points", summary.mean_object_points},
+                        {"mean_pnp_inliers", summary.mean_pnp_inliers},
+                        {"median_fb_error_px", summary.median_fb_error_px}};
+    info["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    WriteRunOutputs(options.out_dir, seq, outcomes, info);
+
+    out << "Front-end: " << summary.frontend_ms_per_frame << " ms/frame (reading " << summary.read_ms_per_frame
+        << " ms/frame), " << summary.mean_static_tracks << " static and " << summary.mean_object_points
+        << " object points per frame, " << summary.mean_pnp_inliers << " PnP inliers, median forward-backward error "
+        << summary.median_fb_error_px << " px" << std::endl;
+    if (summary.has_ground_truth) {
+      const std::string what = options.category.empty() ? "all objects" : options.category + " objects";
+      out << FormatMetricsTable(outcomes, "Image run on " + dataset.name() + " (" + what + " within " +
+                                              std::to_string(static_cast<int>(config.frontend.object_max_distance_m)) +
+                                              " m, mode " + ToString(config.backend.default_mode) + ")");
+      out << FormatObjectTable(SummariseObjects(seq, outcomes.at(Method::kOurs).result.estimate), "Per object (ours)");
+    } else {
+      out << "No ground truth in " << options.dataset_dir << ": estimates written without metrics" << std::endl;
+    }
+    out << "Results written to " << options.out_dir << std::endl;
+    return DrawRunFigures(options, out, err);
+  } catch (const std::exception& e) {
+    err << "dslam run: error: " << e.what() << std::endl;
+    return 2;
+  }
+}
+
+}  // namespace dslam

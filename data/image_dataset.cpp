@@ -1,0 +1,262 @@
+#include "data/image_dataset.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <stdexcept>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "data/dense_maps.h"
+#include "data/odometry_file.h"
+#include "data/velodyne.h"
+
+namespace dslam {
+namespace {
+namespace fs = std::filesystem;
+
+std::vector<std::string> FilesWithExtension(const fs::path& dir, const std::string& ext) {
+  std::vector<std::string> files;
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.is_regular_file() && entry.path().extension() == ext) files.push_back(entry.path().string());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+// The file of `dir` with the same stem as each image, in image order; throws naming the first missing one.
+std::vector<std::string> Matching(const std::vector<std::string>& images, const fs::path& dir, const std::string& ext,
+                                  size_t how_many) {
+  std::vector<std::string> out;
+  for (size_t k = 0; k < how_many; ++k) {
+    const fs::path p = dir / (fs::path(images[k]).stem().string() + ext);
+    if (!fs::is_regular_file(p))
+      throw std::runtime_error("missing " + p.string() + " (for image " + images[k] + ")");
+    out.push_back(p.string());
+  }
+  return out;
+}
+
+std::string Size(const cv::Mat& m) { return std::to_string(m.cols) + "x" + std::to_string(m.rows); }
+
+cv::Mat ReadImage(const std::string& path, int flags) {
+  cv::Mat image = cv::imread(path, flags);
+  if (image.empty()) throw std::runtime_error("cannot read image " + path + " (missing, truncated or not an image)");
+  return image;
+}
+
+}  // namespace
+
+void ImageDatasetOptions::validate() const {
+  if (depth_encoding != "depth_mm" && depth_encoding != "disparity_x256")
+    throw std::invalid_argument("unknown depth encoding '" + depth_encoding + "' (expected depth_mm or disparity_x256)");
+  if (lidar_fill_radius_px < 0) throw std::invalid_argument("lidar_fill_radius_px must be >= 0");
+  if (!(frame_rate_hz > 0.0)) throw std::invalid_argument("frame rate must be positive");
+  stereo.validate();
+}
+
+ImageDataset::ImageDataset(const std::string& dir, const ImageDatasetOptions& options) : options_(options), dir_(dir) {
+  options_.validate();
+  const fs::path root(dir);
+  if (!fs::is_directory(root)) throw std::runtime_error("dataset directory " + dir + " does not exist");
+  name_ = root.filename().string();
+  std::optional<KittiCalibration> calib;
+  auto read_calib = [&](const fs::path& p) {
+    if (!fs::is_regular_file(p)) throw std::runtime_error("missing calibration " + p.string());
+    calib = ReadKittiCalibration(p.string());
+  };
+
+  if (fs::is_directory(root / "image_0")) {
+    layout_ = "vdo";
+    images_ = FilesWithExtension(root / "image_0", ".png");
+    if (images_.empty()) throw std::runtime_error("no .png images in " + (root / "image_0").string());
+    read_calib(root / "calib.txt");
+    if (!fs::is_directory(root / "depth")) throw std::runtime_error("missing depth folder " + (root / "depth").string());
+    depths_ = Matching(images_, root / "depth", ".png", images_.size());
+    depth_kind_ = options_.depth_encoding == "depth_mm" ? DepthKind::kPngDepthMm : DepthKind::kPngDisparity;
+    if (fs::is_directory(root / "mask")) {
+      masks_ = Matching(images_, root / "mask", ".png", images_.size());
+      mask_kind_ = MaskKind::kPng16;
+    } else if (fs::is_directory(root / "semantic")) {
+      masks_ = Matching(images_, root / "semantic", ".txt", images_.size());
+      mask_kind_ = MaskKind::kSemanticText;
+    }
+    if (options_.read_flow && fs::is_directory(root / "flow"))
+      flows_ = Matching(images_, root / "flow", ".flo", images_.size() - 1);  // none after the last frame
+    if (fs::is_regular_file(root / "odometry.txt")) odometry_ = ReadOdometryFile((root / "odometry.txt").string());
+    if (fs::is_regular_file(root / "pose_gt.txt")) ground_truth_ = LoadKittiGroundTruth(dir, "");
+  } else if (fs::is_directory(root / "image_02")) {
+    std::string seq = options_.sequence;
+    if (seq.empty())
+      for (const auto& entry : fs::directory_iterator(root / "image_02"))
+        if (entry.is_directory()) {
+          if (!seq.empty()) throw std::runtime_error(dir + " holds several sequences: choose one with --seq");
+          seq = entry.path().filename().string();
+        }
+    if (!seq.empty()) {
+      layout_ = "kitti-tracking";
+      name_ = seq;
+      const fs::path left = root / "image_02" / seq, right = root / "image_03" / seq;
+      if (!fs::is_directory(left)) throw std::runtime_error("missing image folder " + left.string());
+      if (!fs::is_directory(right))
+        throw std::runtime_error("missing right images " + right.string() + " (depth comes from the stereo pair)");
+      images_ = FilesWithExtension(left, ".png");
+      if (images_.empty()) throw std::runtime_error("no .png images in " + left.string());
+      rights_ = Matching(images_, right, ".png", images_.size());
+      depth_kind_ = DepthKind::kStereo;
+      read_calib(root / "calib" / (seq + ".txt"));
+      const fs::path labels = root / "label_02" / (seq + ".txt");
+      if (fs::is_regular_file(labels)) {
+        mask_kind_ = MaskKind::kLabelBoxes;
+        const auto& P = calib->P[2];
+        for (const KittiLabel& l : ReadKittiLabels(labels.string())) {
+          const SE3 T_camera_object = ObjectPoseFromLabel(l.bottom_centre_camera, l.rotation_y);
+          std::vector<cv::Point2f> corners;
+          bool behind = false;
+          for (int i = 0; i < 8; ++i) {
+            const Vec3 c_object((i & 1 ? 0.5 : -0.5) * l.l, (i & 2 ? -l.h : 0.0), (i & 4 ? 0.5 : -0.5) * l.w);
+            const Vec3 c = T_camera_object * c_object;
+            if (c.z() < 0.1) behind = true;
+            const Eigen::Vector3d x = P * c.homogeneous();
+            corners.emplace_back(static_cast<float>(x.x() / x.z()), static_cast<float>(x.y() / x.z()));
+          }
+          if (behind) continue;
+          LabelShape shape;
+          shape.distance_m = l.bottom_centre_camera.norm();
+          shape.object_id = l.track_id + 1;  // as VDO-SLAM's object ids
+          std::vector<cv::Point2f> hull;
+          cv::convexHull(corners, hull);
+          for (const auto& p : hull) shape.hull.emplace_back(cvRound(p.x), cvRound(p.y));
+          label_shapes_[l.frame].push_back(std::move(shape));
+        }
+        for (auto& [frame, shapes] : label_shapes_)
+          std::sort(shapes.begin(), shapes.end(),
+                    [](const LabelShape& a, const LabelShape& b) { return a.distance_m > b.distance_m; });
+      }
+      if (fs::is_regular_file(root / "oxts" / (seq + ".txt")) || fs::is_directory(root / "gt" / seq))
+        ground_truth_ = LoadKittiGroundTruth(dir, seq);
+    } else {
+      layout_ = "kitti-raw";
+      images_ = FilesWithExtension(root / "image_02", ".png");
+      if (images_.empty()) throw std::runtime_error("no .png images in " + (root / "image_02").string());
+      read_calib(root / "calib.txt");
+      if (fs::is_directory(root / "velodyne_points")) {
+        depths_ = Matching(images_, root / "velodyne_points", ".bin", images_.size());
+        depth_kind_ = DepthKind::kLidar;
+        Mat4 rect = Mat4::Identity();
+        rect.topLeftCorner<3, 3>() = calib->R_rect;
+        P_camera_lidar_ = calib->P[2] * rect * calib->T_cam_velo;
+      } else if (fs::is_directory(root / "image_03")) {
+        rights_ = Matching(images_, root / "image_03", ".png", images_.size());
+        depth_kind_ = DepthKind::kStereo;
+      } else {
+        throw std::runtime_error(dir + ": no depth source (expected velodyne_points/ or image_03/)");
+      }
+    }
+  } else {
+    throw std::runtime_error(dir + " is not an image dataset: expected image_0/ (VDO-SLAM layout) or image_02/ (KITTI)");
+  }
+
+  // Camera: the left colour camera (P2) when it is given, else P0; the size from the first image.
+  const auto& P = calib->P[2](0, 0) > 0.0 ? calib->P[2] : calib->P[0];
+  camera_.fx = P(0, 0), camera_.fy = P(1, 1), camera_.cx = P(0, 2), camera_.cy = P(1, 2);
+  const cv::Mat first = ReadImage(images_.front(), cv::IMREAD_UNCHANGED);
+  camera_.width = first.cols, camera_.height = first.rows;
+  baseline_m_ = (calib->P[2](0, 3) - calib->P[3](0, 3)) / camera_.fx;
+  if ((depth_kind_ == DepthKind::kStereo || depth_kind_ == DepthKind::kPngDisparity) && !(baseline_m_ > 0.0))
+    throw std::runtime_error(dir + ": depth from disparity needs a stereo calibration (P2 and P3 with a baseline)");
+
+  if (fs::is_regular_file(root / "times.txt")) {
+    const auto times = ReadTimes((root / "times.txt").string());
+    if (times.size() < images_.size())
+      throw std::runtime_error((root / "times.txt").string() + ": " + std::to_string(times.size()) +
+                               " timestamps for " + std::to_string(images_.size()) + " images");
+    for (size_t k = 0; k < images_.size(); ++k) t_ns_.push_back(static_cast<int64_t>(std::llround(times[k] * 1e9)));
+  } else {
+    for (size_t k = 0; k < images_.size(); ++k)
+      t_ns_.push_back(static_cast<int64_t>(std::llround(k * 1e9 / options_.frame_rate_hz)));
+  }
+  if (ground_truth_ && static_cast<int>(ground_truth_->T_world_camera.size()) < size())
+    throw std::runtime_error(dir + ": ground truth has " + std::to_string(ground_truth_->T_world_camera.size()) +
+                             " camera poses for " + std::to_string(size()) + " images");
+}
+
+cv::Mat ImageDataset::readDepth(int k, const cv::Mat& left) const {
+  switch (depth_kind_) {
+    case DepthKind::kPngDepthMm:
+    case DepthKind::kPngDisparity: {
+      const cv::Mat raw = ReadImage(depths_[k], cv::IMREAD_UNCHANGED);
+      if (raw.channels() != 1 || raw.depth() != CV_16U)
+        throw std::runtime_error(depths_[k] + ": depth PNG must be 16-bit single channel");
+      return depth_kind_ == DepthKind::kPngDepthMm ? DepthFromScaledImage(raw, 1000.0)
+                                                   : DepthFromDisparity(raw, 256.0, camera_.fx * baseline_m_);
+    }
+    case DepthKind::kStereo: {
+      const cv::Mat right = ReadImage(rights_[k], cv::IMREAD_COLOR);
+      if (right.size() != left.size())
+        throw std::runtime_error(rights_[k] + " is " + Size(right) + " but the left image is " + Size(left));
+      return DepthFromStereo(left, right, camera_.fx, baseline_m_, options_.stereo);
+    }
+    case DepthKind::kLidar:
+      return FillSparseDepth(DepthFromLidar(ReadVelodyneScan(depths_[k]), P_camera_lidar_, left.cols, left.rows),
+                             options_.lidar_fill_radius_px);
+  }
+  return {};
+}
+
+cv::Mat ImageDataset::readMask(int k) const {
+  switch (mask_kind_) {
+    case MaskKind::kNone: return {};
+    case MaskKind::kPng16: {
+      cv::Mat mask = ReadImage(masks_[k], cv::IMREAD_UNCHANGED);
+      if (mask.channels() != 1 || (mask.depth() != CV_16U && mask.depth() != CV_8U))
+        throw std::runtime_error(masks_[k] + ": instance mask PNG must be 8- or 16-bit single channel");
+      if (mask.depth() == CV_8U) mask.convertTo(mask, CV_16U);
+      return mask;
+    }
+    case MaskKind::kSemanticText: {
+      const InstanceMask m = ReadSemanticTxt(masks_[k]);
+      cv::Mat mask(m.height, m.width, CV_32S);
+      std::copy(m.ids.begin(), m.ids.end(), mask.ptr<int32_t>(0));
+      return mask;
+    }
+    case MaskKind::kLabelBoxes: {
+      cv::Mat mask(camera_.height, camera_.width, CV_32S, cv::Scalar(0));
+      const auto shapes = label_shapes_.find(k);
+      if (shapes != label_shapes_.end())
+        for (const LabelShape& s : shapes->second) cv::fillConvexPoly(mask, s.hull, cv::Scalar(s.object_id));
+      return mask;
+    }
+  }
+  return {};
+}
+
+ImageFrame ImageDataset::read(int k) const {
+  if (k < 0 || k >= size()) throw std::out_of_range("frame " + std::to_string(k) + " is outside the dataset");
+  ImageFrame frame;
+  frame.frame_index = k;
+  frame.t_ns = t_ns_[k];
+  frame.image = ReadImage(images_[k], cv::IMREAD_COLOR);
+  if (frame.image.cols != camera_.width || frame.image.rows != camera_.height)
+    throw std::runtime_error(images_[k] + " is " + Size(frame.image) + " but the sequence's images are " +
+                             std::to_string(camera_.width) + "x" + std::to_string(camera_.height));
+  frame.depth_m = readDepth(k, frame.image);
+  if (frame.depth_m.size() != frame.image.size())
+    throw std::runtime_error((depths_.empty() ? rights_[k] : depths_[k]) + ": depth is " + Size(frame.depth_m) +
+                             " but the image is " + Size(frame.image));
+  frame.instance_ids = readMask(k);
+  if (!frame.instance_ids.empty() && frame.instance_ids.size() != frame.image.size())
+    throw std::runtime_error(masks_[k] + ": mask is " + Size(frame.instance_ids) + " but the image is " +
+                             Size(frame.image));
+  if (k < static_cast<int>(flows_.size())) {
+    const FlowField f = ReadFlo(flows_[k]);
+    if (f.width != frame.image.cols || f.height != frame.image.rows)
+      throw std::runtime_error(flows_[k] + ": flow is " + std::to_string(f.width) + "x" + std::to_string(f.height) +
+                               " but the image is " + Size(frame.image));
+    frame.flow_to_next = cv::Mat(f.height, f.width, CV_32FC2);
+    std::copy(f.uv.begin(), f.uv.end(), frame.flow_to_next.ptr<float>(0));
+  }
+  if (const auto o = odometry_.find(k); o != odometry_.end() && k > 0) frame.odometry = o->second;
+  return frame;
+}
+
+}  // namespace dslam

@@ -1,0 +1,112 @@
+#include "frontend/depth_maps.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace dslam {
+namespace {
+
+cv::Mat ToFloatSingleChannel(const cv::Mat& image, const char* what) {
+  if (image.empty()) throw std::invalid_argument(std::string(what) + " is empty");
+  if (image.channels() != 1)
+    throw std::invalid_argument(std::string(what) + " must have one channel, has " + std::to_string(image.channels()));
+  const int depth = image.depth();
+  if (depth != CV_16U && depth != CV_32F && depth != CV_64F && depth != CV_8U)
+    throw std::invalid_argument(std::string(what) + " must be 8-bit, 16-bit unsigned or float");
+  cv::Mat out;
+  image.convertTo(out, CV_32F);
+  return out;
+}
+
+cv::Mat Gray8(const cv::Mat& image, const char* what) {
+  if (image.empty()) throw std::invalid_argument(std::string(what) + " image is empty");
+  if (image.depth() != CV_8U) throw std::invalid_argument(std::string(what) + " image must be 8-bit");
+  if (image.channels() == 1) return image;
+  cv::Mat gray;
+  cv::cvtColor(image, gray, image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
+  return gray;
+}
+
+}  // namespace
+
+cv::Mat DepthFromScaledImage(const cv::Mat& depth, double units_per_metre) {
+  if (!(units_per_metre > 0.0)) throw std::invalid_argument("depth units per metre must be positive");
+  cv::Mat out = ToFloatSingleChannel(depth, "depth image");
+  out *= 1.0 / units_per_metre;
+  cv::patchNaNs(out, 0.0);
+  return out;
+}
+
+cv::Mat DepthFromDisparity(const cv::Mat& disparity, double units_per_pixel, double fx_times_baseline_m) {
+  if (!(units_per_pixel > 0.0)) throw std::invalid_argument("disparity units per pixel must be positive");
+  if (!(fx_times_baseline_m > 0.0)) throw std::invalid_argument("fx * baseline must be positive for disparity input");
+  const cv::Mat d = ToFloatSingleChannel(disparity, "disparity image");
+  cv::Mat out(d.size(), CV_32F, cv::Scalar(0));
+  const float scale = static_cast<float>(units_per_pixel * fx_times_baseline_m);
+  for (int v = 0; v < d.rows; ++v) {
+    const float* in = d.ptr<float>(v);
+    float* z = out.ptr<float>(v);
+    for (int u = 0; u < d.cols; ++u)
+      if (in[u] > 0.0f && std::isfinite(in[u])) z[u] = scale / in[u];
+  }
+  return out;
+}
+
+void StereoParams::validate() const {
+  if (num_disparities <= 0 || num_disparities % 16 != 0)
+    throw std::invalid_argument("stereo num_disparities must be a positive multiple of 16");
+  if (block_size < 1 || block_size % 2 == 0) throw std::invalid_argument("stereo block_size must be odd and >= 1");
+  if (uniqueness_ratio < 0) throw std::invalid_argument("stereo uniqueness_ratio must be >= 0");
+}
+
+cv::Mat DepthFromStereo(const cv::Mat& left, const cv::Mat& right, double fx, double baseline_m,
+                        const StereoParams& params) {
+  params.validate();
+  const cv::Mat l = Gray8(left, "left"), r = Gray8(right, "right");
+  if (l.size() != r.size())
+    throw std::invalid_argument("stereo pair sizes differ: left " + std::to_string(l.cols) + "x" +
+                                std::to_string(l.rows) + ", right " + std::to_string(r.cols) + "x" +
+                                std::to_string(r.rows));
+  const int p1 = 8 * params.block_size * params.block_size, p2 = 32 * params.block_size * params.block_size;
+  auto sgbm = cv::StereoSGBM::create(0, params.num_disparities, params.block_size, p1, p2, 1, 63,
+                                     params.uniqueness_ratio, 100, 2, cv::StereoSGBM::MODE_SGBM_3WAY);
+  cv::Mat disparity16;
+  sgbm->compute(l, r, disparity16);  // fixed point, 4 fractional bits; negative = invalid
+  return DepthFromDisparity(disparity16, 16.0, fx * baseline_m);
+}
+
+cv::Mat DepthFromLidar(const std::vector<Eigen::Vector4f>& points_lidar, const Eigen::Matrix<double, 3, 4>& P_camera_lidar,
+                       int width, int height, double min_depth_m) {
+  if (width <= 0 || height <= 0) throw std::invalid_argument("LiDAR depth image size must be positive");
+  cv::Mat depth(height, width, CV_32F, cv::Scalar(0));
+  for (const Eigen::Vector4f& p : points_lidar) {
+    const Eigen::Vector3d x = P_camera_lidar * Eigen::Vector4d(p.x(), p.y(), p.z(), 1.0);
+    if (!(x.z() >= min_depth_m)) continue;  // also drops NaN
+    const int u = static_cast<int>(std::lround(x.x() / x.z())), v = static_cast<int>(std::lround(x.y() / x.z()));
+    if (u < 0 || u >= width || v < 0 || v >= height) continue;
+    float& z = depth.at<float>(v, u);
+    if (z == 0.0f || x.z() < z) z = static_cast<float>(x.z());
+  }
+  return depth;
+}
+
+cv::Mat FillSparseDepth(const cv::Mat& depth_m, int radius_px) {
+  if (depth_m.type() != CV_32FC1) throw std::invalid_argument("depth must be CV_32FC1 to fill");
+  if (radius_px < 0) throw std::invalid_argument("fill radius must be >= 0");
+  // Erosion (minimum) over valid depths only: map "none" to +inf first.
+  cv::Mat with_inf = depth_m.clone();
+  with_inf.setTo(std::numeric_limits<float>::infinity(), depth_m <= 0.0f);
+  cv::Mat nearest;
+  cv::erode(with_inf, nearest, cv::getStructuringElement(cv::MORPH_RECT, {2 * radius_px + 1, 2 * radius_px + 1}));
+  cv::Mat out = depth_m.clone();
+  const cv::Mat fill = (depth_m <= 0.0f) & (nearest < std::numeric_limits<float>::infinity());
+  nearest.copyTo(out, fill);
+  return out;
+}
+
+}  // namespace dslam

@@ -1,0 +1,38 @@
+#pragma once
+// Metric depth (CV_32FC1, metres along z, 0 = none) from the encodings datasets and drivers use.
+// Invalid input (wrong pixel type, empty image, non-positive scale) throws std::invalid_argument.
+
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+namespace dslam {
+
+// 16-bit (or float) depth image divided by `units_per_metre` (1000 for millimetres); 0 stays "none".
+cv::Mat DepthFromScaledImage(const cv::Mat& depth, double units_per_metre);
+
+// Disparity image (pixels times `units_per_pixel`, e.g. 256 for KITTI's 16-bit disparity PNGs) to depth
+// z = fx * baseline / disparity; disparities <= 0 give no depth.
+cv::Mat DepthFromDisparity(const cv::Mat& disparity, double units_per_pixel, double fx_times_baseline_m);
+
+struct StereoParams {
+  int num_disparities = 128;  // multiple of 16
+  int block_size = 5;         // odd
+  int uniqueness_ratio = 10;
+  void validate() const;
+};
+// Rectified stereo pair (left, right: same size, 8-bit) to depth by OpenCV's semi-global matching.
+cv::Mat DepthFromStereo(const cv::Mat& left, const cv::Mat& right, double fx, double baseline_m,
+                        const StereoParams& params = {});
+
+// Sparse depth from a LiDAR scan: each point X_lidar is taken to the camera by
+// P_camera_lidar (3x4, e.g. P2 * R_rect * Tr_velo_to_cam) and written at its pixel; the nearest point wins.
+cv::Mat DepthFromLidar(const std::vector<Eigen::Vector4f>& points_lidar, const Eigen::Matrix<double, 3, 4>& P_camera_lidar,
+                       int width, int height, double min_depth_m = 1.0);
+
+// Fills pixels without depth from the nearest valid depth within `radius_px` (box neighbourhood, the
+// smallest depth wins so that foreground edges are not blurred into the background). For sparse LiDAR depth.
+cv::Mat FillSparseDepth(const cv::Mat& depth_m, int radius_px);
+
+}  // namespace dslam

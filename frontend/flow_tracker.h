@@ -1,0 +1,58 @@
+#pragma once
+// Moves points from the previous image to the current one by optical flow, with a forward-backward
+// consistency check: a point is kept only if flowing it back lands within `fb_threshold_px` of where
+// it started. Three methods share the interface:
+//  - sparse pyramidal Lucas-Kanade (OpenCV), forward and backward on the points only;
+//  - dense DIS (OpenCV), forward and backward fields sampled at the points;
+//  - a precomputed dense forward field (e.g. a dataset's .flo files); with no backward field the check
+//    is skipped and every point that stays inside the image is kept.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace dslam {
+
+enum class FlowMethod { kLucasKanade, kDis, kPrecomputed };
+std::string ToString(FlowMethod method);
+FlowMethod ParseFlowMethod(const std::string& name);  // "lk", "dis", "precomputed"; throws otherwise
+
+struct FlowParams {
+  FlowMethod method = FlowMethod::kLucasKanade;
+  double fb_threshold_px = 1.0;
+  int lk_window_px = 21;
+  int lk_pyramid_levels = 3;
+  void validate() const;
+};
+
+struct FlowResult {
+  std::vector<cv::Point2f> points;  // positions in the current image
+  std::vector<uint8_t> ok;          // 1: tracked, inside the image and forward-backward consistent
+  std::vector<float> fb_error_px;   // forward-backward distance (0 without a backward field)
+};
+
+class FlowTracker {
+ public:
+  explicit FlowTracker(const FlowParams& params);
+  ~FlowTracker();
+  FlowTracker(const FlowTracker&) = delete;
+  FlowTracker& operator=(const FlowTracker&) = delete;
+
+  // prev_gray, curr_gray: CV_8UC1 of one size. precomputed_flow (CV_32FC2, prev -> curr) is used only by
+  // the precomputed method, which throws std::invalid_argument without it.
+  FlowResult track(const cv::Mat& prev_gray, const cv::Mat& curr_gray, const std::vector<cv::Point2f>& prev_points,
+                   const cv::Mat& precomputed_flow = cv::Mat());
+
+  // The dense prev -> curr field of the last track() call (DIS and precomputed; empty for LK).
+  const cv::Mat& lastDenseFlow() const { return dense_forward_; }
+
+ private:
+  FlowParams params_;
+  cv::Mat dense_forward_;
+  struct Dis;
+  std::unique_ptr<Dis> dis_;
+};
+
+}  // namespace dslam

@@ -1,0 +1,32 @@
+#pragma once
+// Parameters of the image front-end: plain structs with defaults and validate(), loaded from the
+// `frontend:` section of the YAML configuration.
+
+#include "frontend/camera_motion.h"
+#include "frontend/feature_detector.h"
+#include "frontend/flow_tracker.h"
+#include "frontend/object_association.h"
+#include "geometry/rigid_alignment.h"
+
+namespace dslam {
+
+struct FrontendParams {
+  FlowParams flow;
+  FeatureGridParams static_grid{32, 2, 10, 8.0};  // background features: up to 2 per 32 px cell
+  FeatureGridParams object_grid{10, 1, 5, 5.0};   // object points: denser
+  int object_lattice_step_px = 8;     // fill objects without enough corners from a pixel lattice
+  int max_points_per_object = 150;
+  int min_points_per_object = 6;      // fewer: the object is not measured in that frame
+  double static_min_depth_m = 0.5;
+  double static_max_depth_m = 40.0;   // background points farther than this are not used
+  double object_max_distance_m = 22.0;  // objects whose point centroid is farther are not measured
+  double min_mask_area_pct = 0.05;    // instance masks smaller than this share of the image are ignored
+  int mask_border_px = 2;             // new points keep this far from mask edges (mixed depth there)
+  AssociationParams association;
+  PnpParams pnp;
+  RansacParams object_ransac{100, 0.3, 4, 17};  // per-object 3D-3D RANSAC between consecutive frames
+
+  void validate() const;
+};
+
+}  // namespace dslam

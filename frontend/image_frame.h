@@ -1,0 +1,29 @@
+#pragma once
+// One frame of image input as a camera driver and segmenter deliver it: the value the image front-end
+// consumes. OpenCV matrices share their pixels on copy; the front-end never writes into them.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "data/measurements.h"
+
+namespace dslam {
+
+struct ImageFrame {
+  int frame_index = 0;
+  int64_t t_ns = 0;
+  cv::Mat image;         // CV_8UC3 (BGR) or CV_8UC1
+  cv::Mat depth_m;       // CV_32FC1 metres along z; 0 or non-finite = no depth
+  cv::Mat instance_ids;  // CV_16UC1 or CV_32SC1; 0 (or negative) = background; empty = no segmentation
+  cv::Mat flow_to_next;  // optional CV_32FC2 dense flow from this frame to the next, pixels
+  std::optional<OdometryMeasurement> odometry;  // T_prev_curr; absent on the first frame or without odometry
+};
+
+// Empty when the frame is usable; otherwise a message saying what is wrong (missing image, unsupported
+// pixel type, sizes that differ between image, depth, mask and flow).
+std::string FindInvalidImageFrame(const ImageFrame& frame);
+
+}  // namespace dslam

@@ -1,0 +1,308 @@
+#include "frontend/image_frontend.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include <opencv2/imgproc.hpp>
+
+namespace dslam {
+namespace {
+
+cv::Mat ToGray(const cv::Mat& image) {
+  if (image.channels() == 1) return image;
+  cv::Mat gray;
+  cv::cvtColor(image, gray, image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
+  return gray;
+}
+
+// Instance labels as CV_32SC1 (negative ids, as Mask R-CNN's "-1 = none", become background).
+cv::Mat ToLabels(const cv::Mat& instance_ids, const cv::Size& size) {
+  if (instance_ids.empty()) return cv::Mat(size, CV_32S, cv::Scalar(0));
+  cv::Mat labels;
+  instance_ids.convertTo(labels, CV_32S);
+  labels.setTo(0, labels < 0);
+  return labels;
+}
+
+float DepthAt(const cv::Mat& depth, const cv::Point2f& px) {
+  const int u = static_cast<int>(std::lround(px.x)), v = static_cast<int>(std::lround(px.y));
+  if (u < 0 || v < 0 || u >= depth.cols || v >= depth.rows) return 0.0f;
+  const float z = depth.at<float>(v, u);
+  return std::isfinite(z) ? z : 0.0f;
+}
+
+int LabelAt(const cv::Mat& labels, const cv::Point2f& px) {
+  const int u = static_cast<int>(std::lround(px.x)), v = static_cast<int>(std::lround(px.y));
+  if (u < 0 || v < 0 || u >= labels.cols || v >= labels.rows) return 0;
+  return labels.at<int32_t>(v, u);
+}
+
+double Median(std::vector<float> values) {
+  if (values.empty()) return 0.0;
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
+}
+
+}  // namespace
+
+std::string FindInvalidImageFrame(const ImageFrame& frame) {
+  const std::string where = "frame " + std::to_string(frame.frame_index) + ": ";
+  if (frame.image.empty()) return where + "image is empty";
+  if (frame.image.depth() != CV_8U || (frame.image.channels() != 1 && frame.image.channels() != 3 &&
+                                       frame.image.channels() != 4))
+    return where + "image must be 8-bit grey, BGR or BGRA";
+  const cv::Size size = frame.image.size();
+  auto size_text = [](const cv::Size& s) { return std::to_string(s.width) + "x" + std::to_string(s.height); };
+  if (frame.depth_m.empty()) return where + "depth is missing";
+  if (frame.depth_m.type() != CV_32FC1) return where + "depth must be CV_32FC1 metres";
+  if (frame.depth_m.size() != size)
+    return where + "depth is " + size_text(frame.depth_m.size()) + " but the image is " + size_text(size);
+  if (!frame.instance_ids.empty()) {
+    if (frame.instance_ids.channels() != 1 ||
+        (frame.instance_ids.depth() != CV_16U && frame.instance_ids.depth() != CV_32S))
+      return where + "instance mask must be 16-bit unsigned or 32-bit signed, one channel";
+    if (frame.instance_ids.size() != size)
+      return where + "instance mask is " + size_text(frame.instance_ids.size()) + " but the image is " + size_text(size);
+  }
+  if (!frame.flow_to_next.empty() && (frame.flow_to_next.type() != CV_32FC2 || frame.flow_to_next.size() != size))
+    return where + "flow must be CV_32FC2 of the image size";
+  if (frame.odometry) {
+    const auto& o = *frame.odometry;
+    if (!o.T_prev_curr.translation().allFinite() || !o.T_prev_curr.rotation().coeffs().allFinite())
+      return where + "odometry increment is not finite";
+    if (!o.sigma.allFinite() || (o.sigma.array() <= 0.0).any()) return where + "odometry sigmas must be positive";
+  }
+  return {};
+}
+
+ImageFrontend::ImageFrontend(const FrontendParams& params, const PinholeCamera& camera)
+    : params_(params), camera_(camera), flow_(params.flow), associator_(params.association) {
+  params_.validate();
+  if (camera_.width <= 0 || camera_.height <= 0 || !(camera_.fx > 0.0) || !(camera_.fy > 0.0))
+    throw std::invalid_argument("front-end camera needs a positive size and focal lengths");
+}
+
+FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
+  if (const std::string bad = FindInvalidImageFrame(frame); !bad.empty()) throw std::invalid_argument(bad);
+  if (frame.image.cols != camera_.width || frame.image.rows != camera_.height)
+    throw std::invalid_argument("frame " + std::to_string(frame.frame_index) + ": image is " +
+                                std::to_string(frame.image.cols) + "x" + std::to_string(frame.image.rows) +
+                                " but the camera calibration is " + std::to_string(camera_.width) + "x" +
+                                std::to_string(camera_.height));
+  if (prev_frame_index_ && frame.frame_index <= *prev_frame_index_)
+    throw std::invalid_argument("frame " + std::to_string(frame.frame_index) + " arrived after frame " +
+                                std::to_string(*prev_frame_index_) + ": frames must come in increasing order");
+  if (prev_frame_index_ && params_.flow.method == FlowMethod::kPrecomputed && prev_flow_to_next_.empty())
+    throw std::invalid_argument("frame " + std::to_string(frame.frame_index) +
+                                ": flow method 'precomputed' but the previous frame came without a flow field");
+
+  FrontendFrameStats stats;
+  const cv::Mat gray = ToGray(frame.image);
+  const cv::Mat labels = ToLabels(frame.instance_ids, gray.size());
+  const cv::Mat& depth = frame.depth_m;
+
+  // Mask labels large enough to be objects.
+  std::map<int, int> label_areas;
+  for (int v = 0; v < labels.rows; ++v) {
+    const int32_t* row = labels.ptr<int32_t>(v);
+    for (int u = 0; u < labels.cols; ++u)
+      if (row[u] > 0) ++label_areas[row[u]];
+  }
+  const double min_area = params_.min_mask_area_pct / 100.0 * labels.total();
+  for (auto it = label_areas.begin(); it != label_areas.end();) it = it->second < min_area ? label_areas.erase(it) : ++it;
+  for (const auto& [label, area] : label_areas) stats.mask_labels.push_back(label);
+
+  // 1. Flow.
+  std::vector<Track> moved;
+  std::vector<int> moved_label;
+  if (prev_frame_index_ && !tracks_.empty()) {
+    std::vector<cv::Point2f> prev_px;
+    prev_px.reserve(tracks_.size());
+    for (const Track& t : tracks_) prev_px.push_back(t.px);
+    const FlowResult flow = flow_.track(prev_gray_, gray, prev_px, prev_flow_to_next_);
+    std::vector<float> fb;
+    for (size_t i = 0; i < tracks_.size(); ++i) {
+      if (!flow.ok[i]) continue;
+      Track t = tracks_[i];
+      t.px = flow.points[i];
+      moved.push_back(t);
+      moved_label.push_back(LabelAt(labels, t.px));
+      fb.push_back(flow.fb_error_px[i]);
+    }
+    stats.median_fb_error_px = Median(fb);
+  }
+
+  // 2. Association of labels with objects, by the labels the object tracks landed in.
+  std::map<int, std::map<int, int>> votes;
+  std::map<int, int> tracked_per_object;
+  for (size_t i = 0; i < moved.size(); ++i) {
+    if (moved[i].object_id == 0) continue;
+    ++tracked_per_object[moved[i].object_id];
+    if (moved_label[i] > 0) ++votes[moved_label[i]][moved[i].object_id];
+  }
+  const std::map<int, int> object_of_label = associator_.associate(label_areas, votes, tracked_per_object);
+
+  // 3. Keep tracks whose pixel still belongs to what they belong to, with depth in range.
+  std::vector<Track> kept;           // current pixel; p_camera still at the previous frame
+  std::vector<Vec3> p_curr_camera;
+  for (size_t i = 0; i < moved.size(); ++i) {
+    const Track& t = moved[i];
+    const float z = DepthAt(depth, t.px);
+    if (t.object_id == 0) {
+      if (moved_label[i] != 0 || z < params_.static_min_depth_m || z > params_.static_max_depth_m) continue;
+    } else {
+      const auto owner = object_of_label.find(moved_label[i]);
+      if (owner == object_of_label.end() || owner->second != t.object_id || z < params_.static_min_depth_m) continue;
+    }
+    kept.push_back(t);
+    p_curr_camera.push_back(camera_.backProject(t.px.x, t.px.y, z));
+  }
+
+  // 4a. Camera motion from the static tracks; drop their outliers.
+  std::vector<Vec3> static_prev;
+  std::vector<Vec2> static_uv;
+  std::vector<size_t> static_index;
+  for (size_t i = 0; i < kept.size(); ++i) {
+    if (kept[i].object_id != 0) continue;
+    static_prev.push_back(kept[i].p_camera);
+    static_uv.emplace_back(kept[i].px.x, kept[i].px.y);
+    static_index.push_back(i);
+  }
+  std::vector<uint8_t> keep(kept.size(), 1);
+  std::optional<SE3> T_prev_curr;
+  if (frame.odometry) T_prev_curr = frame.odometry->T_prev_curr;
+  if (const auto pnp = EstimateCameraMotionPnp(static_prev, static_uv, camera_, params_.pnp, T_prev_curr)) {
+    stats.pnp_inliers = static_cast<int>(pnp->inliers.size());
+    stats.camera_from_pnp = true;
+    for (size_t j : static_index) keep[j] = 0;
+    for (int j : pnp->inliers) keep[static_index[j]] = 1;
+    T_prev_curr = frame.odometry ? FuseCameraMotion(*pnp, *frame.odometry) : pnp->T_prev_curr;
+  }
+
+  // 4b. Each object's motion (in the previous camera frame) by 3D-3D RANSAC; drop its outliers.
+  std::map<int, std::vector<size_t>> object_tracks;
+  for (size_t i = 0; i < kept.size(); ++i)
+    if (kept[i].object_id != 0) object_tracks[kept[i].object_id].push_back(i);
+  const SE3 T_prev_curr_or_identity = T_prev_curr.value_or(SE3());
+  for (const auto& [object_id, indices] : object_tracks) {
+    std::vector<Vec3> src, dst;
+    for (size_t i : indices) {
+      src.push_back(kept[i].p_camera);
+      dst.push_back(T_prev_curr_or_identity * p_curr_camera[i]);
+    }
+    const auto fit = AlignRigidRansac(src, dst, params_.object_ransac);
+    for (size_t n = 0; n < indices.size(); ++n) keep[indices[n]] = fit && fit->is_inlier[n];
+  }
+
+  std::vector<Track> tracks;
+  for (size_t i = 0; i < kept.size(); ++i) {
+    if (!keep[i]) continue;
+    Track t = kept[i];
+    t.p_camera = p_curr_camera[i];
+    tracks.push_back(t);
+    (t.object_id == 0 ? stats.static_tracked : stats.object_points_tracked)++;
+  }
+
+  // 5. New points.
+  const size_t before = tracks.size();
+  replenish(gray, depth, labels, object_of_label, &tracks);
+  for (size_t i = before; i < tracks.size(); ++i) (tracks[i].object_id == 0 ? stats.static_new : stats.object_points_new)++;
+
+  // The measurement; objects too far or with too few points are left out and their tracks end.
+  FrameMeasurement out;
+  out.frame_index = frame.frame_index;
+  out.t_ns = frame.t_ns;
+  if (prev_frame_index_) {
+    out.odometry = frame.odometry;
+    out.camera_motion_guess = T_prev_curr;
+  }
+  std::map<int, ObjectObservation> objects;
+  for (const Track& t : tracks) {
+    if (t.object_id == 0)
+      out.static_points.push_back({t.id, t.p_camera});
+    else
+      objects[t.object_id].points.push_back({t.id, t.p_camera});
+  }
+  std::set<int> measured;
+  for (auto& [object_id, obs] : objects) {
+    Vec3 centroid = Vec3::Zero();
+    for (const auto& p : obs.points) centroid += p.p_camera;
+    centroid /= static_cast<double>(obs.points.size());
+    if (static_cast<int>(obs.points.size()) < params_.min_points_per_object ||
+        centroid.norm() > params_.object_max_distance_m)
+      continue;
+    obs.object_id = object_id;
+    measured.insert(object_id);
+    out.objects.push_back(std::move(obs));
+  }
+  tracks.erase(std::remove_if(tracks.begin(), tracks.end(),
+                              [&](const Track& t) { return t.object_id != 0 && !measured.count(t.object_id); }),
+               tracks.end());
+  stats.objects = static_cast<int>(out.objects.size());
+
+  tracks_ = std::move(tracks);
+  prev_gray_ = gray;
+  prev_flow_to_next_ = frame.flow_to_next;
+  prev_frame_index_ = frame.frame_index;
+  stats_ = stats;
+  return out;
+}
+
+void ImageFrontend::replenish(const cv::Mat& gray, const cv::Mat& depth, const cv::Mat& labels,
+                              const std::map<int, int>& object_of_label, std::vector<Track>* tracks) {
+  // Pixels near a mask edge mix the depths of object and background: no new points there.
+  cv::Mat edges;
+  cv::Mat labels_float;
+  labels.convertTo(labels_float, CV_32F);
+  cv::morphologyEx(labels_float, edges, cv::MORPH_GRADIENT, cv::Mat());
+  cv::Mat near_edge = edges > 0;
+  if (params_.mask_border_px > 0)
+    cv::dilate(near_edge, near_edge,
+               cv::getStructuringElement(cv::MORPH_RECT, {2 * params_.mask_border_px + 1, 2 * params_.mask_border_px + 1}));
+
+  const cv::Mat background = (labels == 0) & (depth >= params_.static_min_depth_m) &
+                             (depth <= params_.static_max_depth_m) & ~near_edge;
+  std::vector<cv::Point2f> existing;
+  std::map<int, int> points_per_object;
+  for (const Track& t : *tracks) {
+    if (t.object_id == 0) existing.push_back(t.px);
+    else ++points_per_object[t.object_id];
+  }
+  auto add = [&](const cv::Point2f& px, int object_id) {
+    const float z = DepthAt(depth, px);
+    tracks->push_back({next_track_id_++, object_id, px, camera_.backProject(px.x, px.y, z)});
+  };
+  for (const cv::Point2f& px : DetectOnGrid(gray, background, existing, params_.static_grid)) add(px, 0);
+
+  for (const auto& [label, object_id] : object_of_label) {
+    const int missing = params_.max_points_per_object - points_per_object[object_id];
+    if (missing <= 0) continue;
+    const cv::Mat inside = (labels == label) & (depth >= params_.static_min_depth_m) & ~near_edge;
+    const cv::Rect box = cv::boundingRect(inside);
+    if (box.empty()) continue;
+    std::vector<cv::Point2f> here;
+    for (const Track& t : *tracks)
+      if (t.object_id == object_id) here.push_back(t.px);
+    // Only the box around the mask is searched: the mask restricts the detector anyway.
+    std::vector<cv::Point2f> found = DetectOnGrid(gray(box), inside(box), {}, params_.object_grid);
+    for (auto& p : found) p += cv::Point2f(static_cast<float>(box.x), static_cast<float>(box.y));
+    if (static_cast<int>(found.size()) < missing)
+      for (const auto& p : SampleLattice(inside, box, params_.object_lattice_step_px)) found.push_back(p);
+    int added = 0;
+    for (const cv::Point2f& p : found) {
+      if (added >= missing) break;
+      bool close = false;
+      for (const auto& q : here)
+        if (cv::norm(p - q) < params_.object_grid.min_distance_px) { close = true; break; }
+      if (close) continue;
+      here.push_back(p);
+      add(p, object_id);
+      ++added;
+    }
+  }
+}
+
+}  // namespace dslam

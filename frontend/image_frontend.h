@@ -1,0 +1,73 @@
+#pragma once
+// The image front-end (the paper's system overview): instance masks say which points may move,
+// optical flow carries points from frame to frame, depth lifts them to 3D. Per frame it
+//  1. tracks every live point with the configured flow (forward-backward checked);
+//  2. associates the current mask labels with objects (mask ids, or flow-propagated overlap);
+//  3. keeps a static track only on background pixels and an object track only inside its object's mask,
+//     both with valid depth in range;
+//  4. estimates the camera motion by PnP-RANSAC on the static tracks (fused with odometry when present)
+//     and drops the static outliers; fits each object's motion by 3D-3D RANSAC and drops its outliers;
+//  5. replenishes background features on a grid and object points inside the masks;
+// and returns the frame's measurement for the back-end. The static/dynamic decision stays with
+// DynamicObjectClassifier, which works on these measurements.
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "data/measurements.h"
+#include "frontend/frontend_params.h"
+#include "frontend/image_frame.h"
+#include "geometry/pinhole_camera.h"
+
+namespace dslam {
+
+struct FrontendFrameStats {
+  int static_tracked = 0;     // static tracks carried over from the previous frame
+  int static_new = 0;
+  int object_points_tracked = 0;
+  int object_points_new = 0;
+  int objects = 0;            // objects in the measurement
+  int pnp_inliers = 0;        // 0 when PnP failed or did not run
+  bool camera_from_pnp = false;
+  double median_fb_error_px = 0.0;  // over the points the flow kept
+  std::vector<int> mask_labels;     // instance labels at least min_mask_area_pct of the image
+};
+
+class ImageFrontend {
+ public:
+  ImageFrontend(const FrontendParams& params, const PinholeCamera& camera);
+
+  // Throws std::invalid_argument naming what is wrong with the frame (sizes, types, order); the
+  // front-end's state is then unchanged and the next good frame continues from the last good one.
+  FrameMeasurement process(const ImageFrame& frame);
+
+  const FrontendFrameStats& lastStats() const { return stats_; }
+
+ private:
+  struct Track {
+    int64_t id = 0;
+    int object_id = 0;  // 0: static
+    cv::Point2f px;
+    Vec3 p_camera = Vec3::Zero();
+  };
+
+  void replenish(const cv::Mat& gray, const cv::Mat& depth, const cv::Mat& labels,
+                 const std::map<int, int>& object_of_label, std::vector<Track>* tracks);
+
+  FrontendParams params_;
+  PinholeCamera camera_;
+  FlowTracker flow_;
+  ObjectAssociator associator_;
+
+  std::vector<Track> tracks_;
+  cv::Mat prev_gray_, prev_flow_to_next_;
+  std::optional<int> prev_frame_index_;
+  int64_t next_track_id_ = 1;
+  FrontendFrameStats stats_;
+};
+
+}  // namespace dslam

@@ -1,0 +1,30 @@
+#pragma once
+// Runs the image front-end over a recorded image dataset, frame by frame, into the sequence of
+// measurements the back-end consumes (with the dataset's ground truth, when it has some, gated as the
+// front-end gates objects).
+
+#include <ostream>
+
+#include "data/image_dataset.h"
+#include "data/sequence.h"
+#include "frontend/image_frontend.h"
+#include "pipeline/run_config.h"
+
+namespace dslam {
+
+struct ImageRunSummary {
+  int frames = 0;
+  double frontend_ms_per_frame = 0.0;  // front-end only (excludes reading the files)
+  double read_ms_per_frame = 0.0;
+  double mean_static_tracks = 0.0;     // static points per frame (tracked + new)
+  double mean_object_points = 0.0;
+  double mean_pnp_inliers = 0.0;
+  double median_fb_error_px = 0.0;     // median over frames of each frame's median
+  bool has_ground_truth = false;
+};
+
+// max_frames <= 0: the whole dataset. Throws std::runtime_error naming the frame and file on bad input.
+Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, int max_frames, std::ostream* progress,
+                          ImageRunSummary* summary);
+
+}  // namespace dslam
