@@ -128,6 +128,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   run_cmd->add_option("--category", run.category, "Object category the metrics cover (empty = all)")
       ->capture_default_str();
+  run_cmd->add_option("--methods", run.methods, "Methods to run: ours, static_only, slam_mot (default: all three)")
+      ->check(CLI::IsMember({"ours", "static_only", "slam_mot"}))
+      ->delimiter(',')
+      ->capture_default_str();
   run_cmd->add_option("--config", run.config_path, "YAML run configuration (see config/default.yaml)")
       ->check(CLI::ExistingFile);
   run_cmd->add_option("--out", run.out_dir, "Output directory")->capture_default_str();

@@ -1,7 +1,10 @@
 #include "app/run_command.h"
 
+#include <algorithm>
 #include <chrono>
 #include <exception>
+#include <filesystem>
+#include <fstream>
 
 #include "output/object_summary.h"
 #include "pipeline/image_run.h"
@@ -27,12 +30,22 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
           << (dataset.groundTruth() ? "yes" : "no") << "; flow " << ToString(config.frontend.flow.method) << std::endl;
 
     ImageRunSummary summary;
-    const Sequence seq = RunImageFrontend(dataset, config, options.frames, options.quiet ? nullptr : &out, &summary);
+    std::filesystem::create_directories(options.out_dir);
+    const std::string log_path = options.out_dir + "/frontend.csv";
+    std::ofstream frame_log(log_path);
+    if (!frame_log) throw std::runtime_error("cannot write " + log_path);
+    const Sequence seq =
+        RunImageFrontend(dataset, config, options.frames, options.quiet ? nullptr : &out, &summary, &frame_log);
 
     RunSequenceOptions run;
     run.progress = options.quiet ? nullptr : &out;
     run.object_category = options.category;
     run.evaluate = summary.has_ground_truth;
+    run.methods.clear();
+    for (Method m : {Method::kOurs, Method::kStaticOnly, Method::kSlamMot})
+      if (std::find(options.methods.begin(), options.methods.end(), ToString(m)) != options.methods.end())
+        run.methods.push_back(m);
+    if (run.methods.empty()) throw std::invalid_argument("--methods names no method (ours, static_only, slam_mot)");
     const MethodOutcomes outcomes = RunSequence(seq, config, run);
 
     nlohmann::json info = RunInfo("run", options, config);
@@ -60,7 +73,8 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
       out << FormatMetricsTable(outcomes, "Image run on " + dataset.name() + " (" + what + " within " +
                                               std::to_string(static_cast<int>(config.frontend.object_max_distance_m)) +
                                               " m, mode " + ToString(config.backend.default_mode) + ")");
-      out << FormatObjectTable(SummariseObjects(seq, outcomes.at(Method::kOurs).result.estimate), "Per object (ours)");
+      if (outcomes.count(Method::kOurs))
+        out << FormatObjectTable(SummariseObjects(seq, outcomes.at(Method::kOurs).result.estimate), "Per object (ours)");
     } else {
       out << "No ground truth in " << options.dataset_dir << ": estimates written without metrics" << std::endl;
     }

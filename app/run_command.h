@@ -2,6 +2,7 @@
 
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "app/run_setup.h"
 
@@ -14,6 +15,7 @@ struct RunCommandOptions : CommonRunOptions {
   std::optional<std::string> flow;      // overrides frontend.flow_method
   int frames = 0;                       // 0: all
   std::string category = "VEHICLE";     // objects the metrics cover ("" = all)
+  std::vector<std::string> methods = {"ours", "static_only", "slam_mot"};
 };
 
 // The motion model `dslam run` uses unless told otherwise (as kitti-replay).

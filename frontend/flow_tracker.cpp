@@ -60,7 +60,8 @@ cv::Point2f SampleFlow(const cv::Mat& flow, const cv::Point2f& p) {
 }  // namespace
 
 FlowResult FlowTracker::track(const cv::Mat& prev_gray, const cv::Mat& curr_gray,
-                              const std::vector<cv::Point2f>& prev_points, const cv::Mat& precomputed_flow) {
+                              const std::vector<cv::Point2f>& prev_points, const cv::Mat& precomputed_flow,
+                              const std::vector<cv::Point2f>& predicted) {
   if (prev_gray.type() != CV_8UC1 || curr_gray.type() != CV_8UC1 || prev_gray.size() != curr_gray.size())
     throw std::invalid_argument("flow needs two 8-bit grey images of one size");
   const cv::Size size = curr_gray.size();
@@ -74,13 +75,22 @@ FlowResult FlowTracker::track(const cv::Mat& prev_gray, const cv::Mat& curr_gray
     if (prev_points.empty()) return result;
     const cv::Size window(params_.lk_window_px, params_.lk_window_px);
     const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
+    if (!predicted.empty() && predicted.size() != prev_points.size())
+      throw std::invalid_argument("flow: one predicted position per point is needed");
     std::vector<uint8_t> status_fwd, status_bwd;
     std::vector<float> err;
+    int flags = 0;
+    if (!predicted.empty()) {
+      result.points = predicted;
+      flags = cv::OPTFLOW_USE_INITIAL_FLOW;
+    }
     cv::calcOpticalFlowPyrLK(prev_gray, curr_gray, prev_points, result.points, status_fwd, err, window,
-                             params_.lk_pyramid_levels, stop);
-    std::vector<cv::Point2f> back = prev_points;  // start the backward pass at the true origin
+                             params_.lk_pyramid_levels, stop, flags);
+    // The backward pass starts where the forward pass ended (no initial guess): started at the origin it
+    // would return there even from a wrong match on an ambiguous texture, and the check would pass.
+    std::vector<cv::Point2f> back;
     cv::calcOpticalFlowPyrLK(curr_gray, prev_gray, result.points, back, status_bwd, err, window,
-                             params_.lk_pyramid_levels, stop, cv::OPTFLOW_USE_INITIAL_FLOW);
+                             params_.lk_pyramid_levels, stop);
     for (size_t i = 0; i < prev_points.size(); ++i) {
       result.fb_error_px[i] = static_cast<float>(cv::norm(back[i] - prev_points[i]));
       result.ok[i] = status_fwd[i] && status_bwd[i] && Inside(result.points[i], size) &&

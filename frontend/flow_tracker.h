@@ -41,9 +41,11 @@ class FlowTracker {
   FlowTracker& operator=(const FlowTracker&) = delete;
 
   // prev_gray, curr_gray: CV_8UC1 of one size. precomputed_flow (CV_32FC2, prev -> curr) is used only by
-  // the precomputed method, which throws std::invalid_argument without it.
+  // the precomputed method, which throws std::invalid_argument without it. `predicted` (one per point, or
+  // empty) starts Lucas-Kanade where a motion model expects each point: on a fast-moving, repetitive
+  // texture the search from the old position can lock onto the wrong period.
   FlowResult track(const cv::Mat& prev_gray, const cv::Mat& curr_gray, const std::vector<cv::Point2f>& prev_points,
-                   const cv::Mat& precomputed_flow = cv::Mat());
+                   const cv::Mat& precomputed_flow = cv::Mat(), const std::vector<cv::Point2f>& predicted = {});
 
   // The dense prev -> curr field of the last track() call (DIS and precomputed; empty for LK).
   const cv::Mat& lastDenseFlow() const { return dense_forward_; }

@@ -10,6 +10,8 @@ void FrontendParams::validate() const {
   object_grid.validate();
   association.validate();
   pnp.validate();
+  if (!(object_max_acceleration_mps2 > 0.0)) throw std::invalid_argument("frontend object_max_acceleration_mps2 must be positive");
+  if (!(frame_interval_s > 0.0)) throw std::invalid_argument("frontend frame interval must be positive");
   if (object_lattice_step_px < 1) throw std::invalid_argument("frontend object_lattice_step_px must be >= 1");
   if (max_points_per_object < 3) throw std::invalid_argument("frontend max_points_per_object must be >= 3");
   if (min_points_per_object < 3 || min_points_per_object > max_points_per_object)

@@ -21,10 +21,15 @@ struct FrontendParams {
   double static_max_depth_m = 40.0;   // background points farther than this are not used
   double object_max_distance_m = 22.0;  // objects whose point centroid is farther are not measured
   double min_mask_area_pct = 0.05;    // instance masks smaller than this share of the image are ignored
-  int mask_border_px = 2;             // new points keep this far from mask edges (mixed depth there)
+  int mask_border_px = 2;             // points within this of a mask edge are dropped (mixed depth, occlusion)
   AssociationParams association;
   PnpParams pnp;
   RansacParams object_ransac{100, 0.3, 4, 17};  // per-object 3D-3D RANSAC between consecutive frames
+  // An object's fitted motion may differ from its previous one by at most this acceleration (at its
+  // points' centroid, in m/s^2 over the frame interval); beyond it, the fit comes from bad tracks (an
+  // occluding contour, an ambiguous texture) and the object's tracks restart.
+  double object_max_acceleration_mps2 = 15.0;
+  double frame_interval_s = 0.1;  // set from the dataset's frame rate
 
   void validate() const;
 };

@@ -10,6 +10,9 @@
 namespace dslam {
 namespace {
 
+// An object's last motion still predicts its flow this many frames later (a short occlusion).
+constexpr int kObjectMotionMemoryFrames = 5;
+
 cv::Mat ToGray(const cv::Mat& image) {
   if (image.channels() == 1) return image;
   cv::Mat gray;
@@ -37,6 +40,18 @@ int LabelAt(const cv::Mat& labels, const cv::Point2f& px) {
   const int u = static_cast<int>(std::lround(px.x)), v = static_cast<int>(std::lround(px.y));
   if (u < 0 || v < 0 || u >= labels.cols || v >= labels.rows) return 0;
   return labels.at<int32_t>(v, u);
+}
+
+// Non-zero within `border_px` of a boundary between two different labels.
+cv::Mat NearMaskEdge(const cv::Mat& labels, int border_px) {
+  if (border_px <= 0) return cv::Mat(labels.size(), CV_8U, cv::Scalar(0));
+  cv::Mat labels_float, edges;
+  labels.convertTo(labels_float, CV_32F);
+  cv::morphologyEx(labels_float, edges, cv::MORPH_GRADIENT, cv::Mat());
+  cv::Mat near_edge = edges > 0;
+  if (border_px > 1)
+    cv::dilate(near_edge, near_edge, cv::getStructuringElement(cv::MORPH_RECT, {2 * border_px - 1, 2 * border_px - 1}));
+  return near_edge;
 }
 
 double Median(std::vector<float> values) {
@@ -115,6 +130,10 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
   for (auto it = label_areas.begin(); it != label_areas.end();) it = it->second < min_area ? label_areas.erase(it) : ++it;
   for (const auto& [label, area] : label_areas) stats.mask_labels.push_back(label);
 
+  // Pixels near a mask edge mix the depths of object and background, and a point tracked there may be
+  // sliding along an occluding contour: no points are kept or created there.
+  const cv::Mat near_edge = NearMaskEdge(labels, params_.mask_border_px);
+
   // 1. Flow.
   std::vector<Track> moved;
   std::vector<int> moved_label;
@@ -122,7 +141,7 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
     std::vector<cv::Point2f> prev_px;
     prev_px.reserve(tracks_.size());
     for (const Track& t : tracks_) prev_px.push_back(t.px);
-    const FlowResult flow = flow_.track(prev_gray_, gray, prev_px, prev_flow_to_next_);
+    const FlowResult flow = flow_.track(prev_gray_, gray, prev_px, prev_flow_to_next_, predictPixels(frame.odometry));
     std::vector<float> fb;
     for (size_t i = 0; i < tracks_.size(); ++i) {
       if (!flow.ok[i]) continue;
@@ -150,6 +169,7 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
   std::vector<Vec3> p_curr_camera;
   for (size_t i = 0; i < moved.size(); ++i) {
     const Track& t = moved[i];
+    if (near_edge.at<uint8_t>(cvRound(t.px.y), cvRound(t.px.x))) continue;
     const float z = DepthAt(depth, t.px);
     if (t.object_id == 0) {
       if (moved_label[i] != 0 || z < params_.static_min_depth_m || z > params_.static_max_depth_m) continue;
@@ -187,14 +207,17 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
   for (size_t i = 0; i < kept.size(); ++i)
     if (kept[i].object_id != 0) object_tracks[kept[i].object_id].push_back(i);
   const SE3 T_prev_curr_or_identity = T_prev_curr.value_or(SE3());
+  std::map<int, SE3> object_motion;
   for (const auto& [object_id, indices] : object_tracks) {
     std::vector<Vec3> src, dst;
     for (size_t i : indices) {
       src.push_back(kept[i].p_camera);
       dst.push_back(T_prev_curr_or_identity * p_curr_camera[i]);
     }
-    const auto fit = AlignRigidRansac(src, dst, params_.object_ransac);
+    auto fit = AlignRigidRansac(src, dst, params_.object_ransac);
+    if (fit && !plausibleObjectMotion(object_id, fit->transform, src, fit->is_inlier)) fit.reset();
     for (size_t n = 0; n < indices.size(); ++n) keep[indices[n]] = fit && fit->is_inlier[n];
+    if (fit) object_motion[object_id] = fit->transform;
   }
 
   std::vector<Track> tracks;
@@ -204,12 +227,16 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
     t.p_camera = p_curr_camera[i];
     tracks.push_back(t);
     (t.object_id == 0 ? stats.static_tracked : stats.object_points_tracked)++;
+    if (t.object_id != 0) ++stats.object_counts[t.object_id].tracked;
   }
 
   // 5. New points.
   const size_t before = tracks.size();
-  replenish(gray, depth, labels, object_of_label, &tracks);
-  for (size_t i = before; i < tracks.size(); ++i) (tracks[i].object_id == 0 ? stats.static_new : stats.object_points_new)++;
+  replenish(gray, depth, labels, near_edge, object_of_label, &tracks);
+  for (size_t i = before; i < tracks.size(); ++i) {
+    (tracks[i].object_id == 0 ? stats.static_new : stats.object_points_new)++;
+    if (tracks[i].object_id != 0) ++stats.object_counts[tracks[i].object_id].added;
+  }
 
   // The measurement; objects too far or with too few points are left out and their tracks end.
   FrameMeasurement out;
@@ -236,6 +263,7 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
       continue;
     obs.object_id = object_id;
     measured.insert(object_id);
+    stats.object_counts[object_id].measured = true;
     out.objects.push_back(std::move(obs));
   }
   tracks.erase(std::remove_if(tracks.begin(), tracks.end(),
@@ -244,6 +272,10 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
   stats.objects = static_cast<int>(out.objects.size());
 
   tracks_ = std::move(tracks);
+  last_camera_motion_ = T_prev_curr;
+  for (const auto& [id, motion] : object_motion) last_object_motion_[id] = {motion, frame.frame_index};
+  for (auto it = last_object_motion_.begin(); it != last_object_motion_.end();)
+    it = frame.frame_index - it->second.frame_index > kObjectMotionMemoryFrames ? last_object_motion_.erase(it) : ++it;
   prev_gray_ = gray;
   prev_flow_to_next_ = frame.flow_to_next;
   prev_frame_index_ = frame.frame_index;
@@ -251,18 +283,44 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
   return out;
 }
 
-void ImageFrontend::replenish(const cv::Mat& gray, const cv::Mat& depth, const cv::Mat& labels,
-                              const std::map<int, int>& object_of_label, std::vector<Track>* tracks) {
-  // Pixels near a mask edge mix the depths of object and background: no new points there.
-  cv::Mat edges;
-  cv::Mat labels_float;
-  labels.convertTo(labels_float, CV_32F);
-  cv::morphologyEx(labels_float, edges, cv::MORPH_GRADIENT, cv::Mat());
-  cv::Mat near_edge = edges > 0;
-  if (params_.mask_border_px > 0)
-    cv::dilate(near_edge, near_edge,
-               cv::getStructuringElement(cv::MORPH_RECT, {2 * params_.mask_border_px + 1, 2 * params_.mask_border_px + 1}));
+bool ImageFrontend::plausibleObjectMotion(int object_id, const SE3& motion, const std::vector<Vec3>& p_prev,
+                                          const std::vector<bool>& inlier) const {
+  const auto last = last_object_motion_.find(object_id);
+  if (last == last_object_motion_.end()) return true;
+  Vec3 centroid = Vec3::Zero();
+  int n = 0;
+  for (size_t i = 0; i < p_prev.size(); ++i)
+    if (inlier[i]) centroid += p_prev[i], ++n;
+  if (n == 0) return false;
+  centroid /= n;
+  const double dt = params_.frame_interval_s;
+  const int frames_since = std::max(1, *prev_frame_index_ + 1 - last->second.frame_index);
+  const double change_m = ((motion * centroid) - (last->second.motion * centroid)).norm();
+  return change_m <= params_.object_max_acceleration_mps2 * dt * dt * frames_since;
+}
 
+std::vector<cv::Point2f> ImageFrontend::predictPixels(const std::optional<OdometryMeasurement>& odometry) const {
+  if (params_.flow.method != FlowMethod::kLucasKanade) return {};
+  const std::optional<SE3> camera = odometry ? std::optional<SE3>(odometry->T_prev_curr) : last_camera_motion_;
+  const SE3 T_curr_prev = camera.value_or(SE3()).inverse();
+  std::vector<cv::Point2f> predicted;
+  predicted.reserve(tracks_.size());
+  for (const Track& t : tracks_) {
+    Vec3 p = t.p_camera;  // previous camera frame
+    if (t.object_id != 0)
+      if (const auto m = last_object_motion_.find(t.object_id); m != last_object_motion_.end()) p = m->second.motion * p;
+    p = T_curr_prev * p;
+    const Vec2 uv = p.z() > 0.1 ? camera_.project(p) : Vec2(t.px.x, t.px.y);
+    const bool inside = uv.allFinite() && uv.x() >= 0 && uv.y() >= 0 && uv.x() <= camera_.width - 1 &&
+                        uv.y() <= camera_.height - 1;
+    predicted.push_back(inside ? cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y())) : t.px);
+  }
+  return predicted;
+}
+
+void ImageFrontend::replenish(const cv::Mat& gray, const cv::Mat& depth, const cv::Mat& labels,
+                              const cv::Mat& near_edge, const std::map<int, int>& object_of_label,
+                              std::vector<Track>* tracks) {
   const cv::Mat background = (labels == 0) & (depth >= params_.static_min_depth_m) &
                              (depth <= params_.static_max_depth_m) & ~near_edge;
   std::vector<cv::Point2f> existing;

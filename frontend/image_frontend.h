@@ -35,6 +35,12 @@ struct FrontendFrameStats {
   bool camera_from_pnp = false;
   double median_fb_error_px = 0.0;  // over the points the flow kept
   std::vector<int> mask_labels;     // instance labels at least min_mask_area_pct of the image
+  struct ObjectCounts {
+    int tracked = 0;  // points carried over from the previous frame (after RANSAC)
+    int added = 0;    // new points
+    bool measured = false;  // in the measurement (enough points, within range)
+  };
+  std::map<int, ObjectCounts> object_counts;  // by object id
 };
 
 class ImageFrontend {
@@ -55,7 +61,7 @@ class ImageFrontend {
     Vec3 p_camera = Vec3::Zero();
   };
 
-  void replenish(const cv::Mat& gray, const cv::Mat& depth, const cv::Mat& labels,
+  void replenish(const cv::Mat& gray, const cv::Mat& depth, const cv::Mat& labels, const cv::Mat& near_edge,
                  const std::map<int, int>& object_of_label, std::vector<Track>* tracks);
 
   FrontendParams params_;
@@ -63,7 +69,21 @@ class ImageFrontend {
   FlowTracker flow_;
   ObjectAssociator associator_;
 
+  // Where the motion model expects each track in the new frame (constant velocity for the camera and
+  // for each object), to start the flow search there.
+  // False when `motion` of the object's points p_prev (previous camera frame) departs from its last
+  // known motion by more than the acceleration bound allows.
+  bool plausibleObjectMotion(int object_id, const SE3& motion, const std::vector<Vec3>& p_prev,
+                             const std::vector<bool>& inlier) const;
+  std::vector<cv::Point2f> predictPixels(const std::optional<OdometryMeasurement>& odometry) const;
+
   std::vector<Track> tracks_;
+  std::optional<SE3> last_camera_motion_;       // T_prev_curr of the last transition
+  struct ObjectMotionMemory {
+    SE3 motion;           // between consecutive frames, in the earlier camera frame
+    int frame_index = 0;  // when it was last fitted
+  };
+  std::map<int, ObjectMotionMemory> last_object_motion_;  // kept a few frames across occlusions
   cv::Mat prev_gray_, prev_flow_to_next_;
   std::optional<int> prev_frame_index_;
   int64_t next_track_id_ = 1;

@@ -7,10 +7,12 @@
 namespace dslam {
 
 Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, int max_frames, std::ostream* progress,
-                          ImageRunSummary* summary) {
+                          ImageRunSummary* summary, std::ostream* frame_log) {
   config.validate();
   const int frames = max_frames > 0 ? std::min(max_frames, dataset.size()) : dataset.size();
-  ImageFrontend frontend(config.frontend, dataset.camera());
+  FrontendParams frontend_params = config.frontend;
+  frontend_params.frame_interval_s = 1.0 / dataset.frameRateHz();
+  ImageFrontend frontend(frontend_params, dataset.camera());
   Sequence seq;
   seq.name = dataset.name();
   seq.frame_rate_hz = dataset.frameRateHz();
@@ -30,6 +32,15 @@ Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, 
     frontend_s += std::chrono::duration<double>(t2 - t1).count();
     const FrontendFrameStats& st = frontend.lastStats();
     for (int label : st.mask_labels) visible.insert({k, label});
+    if (frame_log) {
+      if (k == 0) *frame_log << "frame,object_id,tracked,added,measured,static_tracked,static_new,pnp_inliers,median_fb_px\n";
+      *frame_log << k << ",0," << st.static_tracked << ',' << st.static_new << ",1," << st.static_tracked << ','
+                 << st.static_new << ',' << st.pnp_inliers << ',' << st.median_fb_error_px << '\n';
+      for (const auto& [id, c] : st.object_counts)
+        *frame_log << k << ',' << id << ',' << c.tracked << ',' << c.added << ',' << (c.measured ? 1 : 0) << ','
+                   << st.static_tracked << ',' << st.static_new << ',' << st.pnp_inliers << ','
+                   << st.median_fb_error_px << '\n';
+    }
     s.mean_static_tracks += st.static_tracked + st.static_new;
     s.mean_object_points += st.object_points_tracked + st.object_points_new;
     s.mean_pnp_inliers += st.pnp_inliers;

@@ -24,7 +24,10 @@ struct ImageRunSummary {
 };
 
 // max_frames <= 0: the whole dataset. Throws std::runtime_error naming the frame and file on bad input.
+// `frame_log`, when given, receives one CSV row per frame and object:
+// frame,object_id,tracked,added,measured,static_tracked,static_new,pnp_inliers,median_fb_px (object_id 0: the frame's
+// background row).
 Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, int max_frames, std::ostream* progress,
-                          ImageRunSummary* summary);
+                          ImageRunSummary* summary, std::ostream* frame_log = nullptr);
 
 }  // namespace dslam
