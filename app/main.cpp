@@ -123,7 +123,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--mode", run.mode,
                       std::string("Object motion model: per-step, constant or smoothed (default ") +
                           dslam::kRunDefaultMode + ")");
-  run_cmd->add_option("--schedule", run.schedule, "Solver schedule: batch (default) or window:W");
+  run_cmd->add_option("--schedule", run.schedule, "Solver schedule: window:W (default window:10) or batch");
   run_cmd->add_option("--sigma", run.sigma_m, "Point measurement sigma per axis assumed by the back-end, metres")
       ->capture_default_str();
   run_cmd->add_option("--category", run.category, "Object category the metrics cover (empty = all)")

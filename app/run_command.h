@@ -9,7 +9,10 @@
 namespace dslam {
 
 struct RunCommandOptions : CommonRunOptions {
-  RunCommandOptions() { out_dir = "results/run"; }
+  RunCommandOptions() {
+    out_dir = "results/run";
+    schedule = "window:10";  // image runs carry hundreds of points a frame: the sliding window keeps them fast
+  }
   std::string dataset_dir;
   std::string sequence;                 // KITTI tracking layout: which sequence
   std::optional<std::string> flow;      // overrides frontend.flow_method

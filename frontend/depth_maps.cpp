@@ -1,7 +1,6 @@
 #include "frontend/depth_maps.h"
 
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -16,8 +15,8 @@ cv::Mat ToFloatSingleChannel(const cv::Mat& image, const char* what) {
   if (image.channels() != 1)
     throw std::invalid_argument(std::string(what) + " must have one channel, has " + std::to_string(image.channels()));
   const int depth = image.depth();
-  if (depth != CV_16U && depth != CV_32F && depth != CV_64F && depth != CV_8U)
-    throw std::invalid_argument(std::string(what) + " must be 8-bit, 16-bit unsigned or float");
+  if (depth != CV_16U && depth != CV_16S && depth != CV_32F && depth != CV_64F && depth != CV_8U)
+    throw std::invalid_argument(std::string(what) + " must be 8-bit, 16-bit or float");
   cv::Mat out;
   image.convertTo(out, CV_32F);
   return out;
@@ -98,13 +97,15 @@ cv::Mat DepthFromLidar(const std::vector<Eigen::Vector4f>& points_lidar, const E
 cv::Mat FillSparseDepth(const cv::Mat& depth_m, int radius_px) {
   if (depth_m.type() != CV_32FC1) throw std::invalid_argument("depth must be CV_32FC1 to fill");
   if (radius_px < 0) throw std::invalid_argument("fill radius must be >= 0");
-  // Erosion (minimum) over valid depths only: map "none" to +inf first.
-  cv::Mat with_inf = depth_m.clone();
-  with_inf.setTo(std::numeric_limits<float>::infinity(), depth_m <= 0.0f);
+  // Erosion (minimum) over valid depths only: "none" becomes a huge finite sentinel first (OpenCV's
+  // erosion pads the border with the type's maximum, which must not pass for a depth either).
+  constexpr float kNone = 1e30f;
+  cv::Mat sentinel = depth_m.clone();
+  sentinel.setTo(kNone, depth_m <= 0.0f);
   cv::Mat nearest;
-  cv::erode(with_inf, nearest, cv::getStructuringElement(cv::MORPH_RECT, {2 * radius_px + 1, 2 * radius_px + 1}));
+  cv::erode(sentinel, nearest, cv::getStructuringElement(cv::MORPH_RECT, {2 * radius_px + 1, 2 * radius_px + 1}));
   cv::Mat out = depth_m.clone();
-  const cv::Mat fill = (depth_m <= 0.0f) & (nearest < std::numeric_limits<float>::infinity());
+  const cv::Mat fill = (depth_m <= 0.0f) & (nearest < kNone / 2);
   nearest.copyTo(out, fill);
   return out;
 }

@@ -86,11 +86,13 @@ FlowResult FlowTracker::track(const cv::Mat& prev_gray, const cv::Mat& curr_gray
     }
     cv::calcOpticalFlowPyrLK(prev_gray, curr_gray, prev_points, result.points, status_fwd, err, window,
                              params_.lk_pyramid_levels, stop, flags);
-    // The backward pass starts where the forward pass ended (no initial guess): started at the origin it
-    // would return there even from a wrong match on an ambiguous texture, and the check would pass.
-    std::vector<cv::Point2f> back;
+    // The backward pass starts where the forward pass ended, moved back by the predicted motion (if any):
+    // started at the origin it would return there even from a wrong match on an ambiguous texture.
+    std::vector<cv::Point2f> back = result.points;
+    if (!predicted.empty())
+      for (size_t i = 0; i < back.size(); ++i) back[i] -= predicted[i] - prev_points[i];
     cv::calcOpticalFlowPyrLK(curr_gray, prev_gray, result.points, back, status_bwd, err, window,
-                             params_.lk_pyramid_levels, stop);
+                             params_.lk_pyramid_levels, stop, cv::OPTFLOW_USE_INITIAL_FLOW);
     for (size_t i = 0; i < prev_points.size(); ++i) {
       result.fb_error_px[i] = static_cast<float>(cv::norm(back[i] - prev_points[i]));
       result.ok[i] = status_fwd[i] && status_bwd[i] && Inside(result.points[i], size) &&

@@ -207,7 +207,6 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
   for (size_t i = 0; i < kept.size(); ++i)
     if (kept[i].object_id != 0) object_tracks[kept[i].object_id].push_back(i);
   const SE3 T_prev_curr_or_identity = T_prev_curr.value_or(SE3());
-  std::map<int, SE3> object_motion;
   for (const auto& [object_id, indices] : object_tracks) {
     std::vector<Vec3> src, dst;
     for (size_t i : indices) {
@@ -215,9 +214,8 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
       dst.push_back(T_prev_curr_or_identity * p_curr_camera[i]);
     }
     auto fit = AlignRigidRansac(src, dst, params_.object_ransac);
-    if (fit && !plausibleObjectMotion(object_id, fit->transform, src, fit->is_inlier)) fit.reset();
+    if (fit && !acceptObjectMotion(object_id, fit->transform, src, fit->is_inlier, frame.frame_index)) fit.reset();
     for (size_t n = 0; n < indices.size(); ++n) keep[indices[n]] = fit && fit->is_inlier[n];
-    if (fit) object_motion[object_id] = fit->transform;
   }
 
   std::vector<Track> tracks;
@@ -273,7 +271,6 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
 
   tracks_ = std::move(tracks);
   last_camera_motion_ = T_prev_curr;
-  for (const auto& [id, motion] : object_motion) last_object_motion_[id] = {motion, frame.frame_index};
   for (auto it = last_object_motion_.begin(); it != last_object_motion_.end();)
     it = frame.frame_index - it->second.frame_index > kObjectMotionMemoryFrames ? last_object_motion_.erase(it) : ++it;
   prev_gray_ = gray;
@@ -283,10 +280,11 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
   return out;
 }
 
-bool ImageFrontend::plausibleObjectMotion(int object_id, const SE3& motion, const std::vector<Vec3>& p_prev,
-                                          const std::vector<bool>& inlier) const {
+std::optional<bool> ImageFrontend::withinAccelerationBound(int object_id, const SE3& motion,
+                                                           const std::vector<Vec3>& p_prev,
+                                                           const std::vector<bool>& inlier) const {
   const auto last = last_object_motion_.find(object_id);
-  if (last == last_object_motion_.end()) return true;
+  if (last == last_object_motion_.end()) return std::nullopt;
   Vec3 centroid = Vec3::Zero();
   int n = 0;
   for (size_t i = 0; i < p_prev.size(); ++i)
@@ -297,6 +295,20 @@ bool ImageFrontend::plausibleObjectMotion(int object_id, const SE3& motion, cons
   const int frames_since = std::max(1, *prev_frame_index_ + 1 - last->second.frame_index);
   const double change_m = ((motion * centroid) - (last->second.motion * centroid)).norm();
   return change_m <= params_.object_max_acceleration_mps2 * dt * dt * frames_since;
+}
+
+bool ImageFrontend::acceptObjectMotion(int object_id, const SE3& motion, const std::vector<Vec3>& p_prev,
+                                       const std::vector<bool>& inlier, int frame_index) {
+  constexpr int kConfirmed = 2, kMaxRejections = 3;
+  const std::optional<bool> within = withinAccelerationBound(object_id, motion, p_prev, inlier);
+  auto memory = last_object_motion_.find(object_id);
+  if (within == false && memory->second.confirmations >= kConfirmed) {
+    if (++memory->second.rejections >= kMaxRejections) last_object_motion_.erase(memory);
+    return false;
+  }
+  const int confirmations = within.value_or(false) ? memory->second.confirmations + 1 : 1;
+  last_object_motion_[object_id] = {motion, frame_index, confirmations, 0};
+  return true;
 }
 
 std::vector<cv::Point2f> ImageFrontend::predictPixels(const std::optional<OdometryMeasurement>& odometry) const {

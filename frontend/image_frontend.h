@@ -71,17 +71,24 @@ class ImageFrontend {
 
   // Where the motion model expects each track in the new frame (constant velocity for the camera and
   // for each object), to start the flow search there.
-  // False when `motion` of the object's points p_prev (previous camera frame) departs from its last
-  // known motion by more than the acceleration bound allows.
-  bool plausibleObjectMotion(int object_id, const SE3& motion, const std::vector<Vec3>& p_prev,
-                             const std::vector<bool>& inlier) const;
+  // Whether `motion` of the object's inlier points p_prev (previous camera frame) stays within the
+  // acceleration bound of its last known motion; nullopt when there is none to compare with.
+  std::optional<bool> withinAccelerationBound(int object_id, const SE3& motion, const std::vector<Vec3>& p_prev,
+                                              const std::vector<bool>& inlier) const;
+  // The acceleration gate: a fit is rejected only against a motion confirmed by consecutive consistent
+  // fits (a first fit from a few points may itself be the wrong one), and a memory that keeps rejecting
+  // is dropped (the object really changed its motion, or the memory was wrong).
+  bool acceptObjectMotion(int object_id, const SE3& motion, const std::vector<Vec3>& p_prev,
+                          const std::vector<bool>& inlier, int frame_index);
   std::vector<cv::Point2f> predictPixels(const std::optional<OdometryMeasurement>& odometry) const;
 
   std::vector<Track> tracks_;
   std::optional<SE3> last_camera_motion_;       // T_prev_curr of the last transition
   struct ObjectMotionMemory {
-    SE3 motion;           // between consecutive frames, in the earlier camera frame
-    int frame_index = 0;  // when it was last fitted
+    SE3 motion;             // between consecutive frames, in the earlier camera frame
+    int frame_index = 0;    // when it was last fitted
+    int confirmations = 1;  // consecutive fits that agreed with each other
+    int rejections = 0;     // consecutive fits it rejected
   };
   std::map<int, ObjectMotionMemory> last_object_motion_;  // kept a few frames across occlusions
   cv::Mat prev_gray_, prev_flow_to_next_;

@@ -132,8 +132,10 @@ void WriteRunOutputs(const std::string& dir, const Sequence& seq, const MethodOu
   WriteGroundTruthCentroids(dir + "/object_centroids_gt.csv", seq);
   std::vector<int64_t> t_ns;
   for (const auto& f : seq.frames) t_ns.push_back(f.t_ns);
-  WriteTumTrajectory(dir + "/camera_gt.tum", t_ns, seq.gt.T_world_camera);
-  WriteKittiTrajectory(dir + "/camera_gt.kitti", seq.gt.T_world_camera);
+  if (!seq.gt.T_world_camera.empty()) {  // a recording without ground truth has none to write
+    WriteTumTrajectory(dir + "/camera_gt.tum", t_ns, seq.gt.T_world_camera);
+    WriteKittiTrajectory(dir + "/camera_gt.kitti", seq.gt.T_world_camera);
+  }
   for (const auto& [method, outcome] : outcomes) {
     WriteTumTrajectory(dir + "/camera_" + ToString(method) + ".tum", t_ns, outcome.result.estimate.T_world_camera);
     WriteKittiTrajectory(dir + "/camera_" + ToString(method) + ".kitti", outcome.result.estimate.T_world_camera);

@@ -1,0 +1,113 @@
+// `dslam run` end to end on a short rendered city scene, and its answers to bad input.
+#include "app/run_command.h"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "app/render_scene_command.h"
+#include "support/no_display.h"
+#include "support/temp_paths.h"
+
+namespace dslam {
+namespace {
+namespace fs = std::filesystem;
+
+// 25 frames of the built-in city, rendered once for the tests of this file.
+const std::string& CityDataset() {
+  static const std::string dir = [] {
+    const std::string d = test::TempPath("run_city");
+    test::ScopedNoDisplay no_display;
+    RenderSceneOptions render;
+    render.scenario = "city", render.frames = 25, render.out_dir = d, render.quiet = true;
+    std::ostringstream out, err;
+    if (RunRenderSceneCommand(render, out, err) != 0) throw std::runtime_error(err.str());
+    return d;
+  }();
+  return dir;
+}
+
+TEST(RunCommand, RunsTheImagePipelineAndWritesResultsFiguresAndAFrameLog) {
+  test::ScopedNoDisplay no_display;
+  RunCommandOptions options;
+  options.dataset_dir = CityDataset();
+  options.out_dir = test::TempPath("run_out");
+  std::ostringstream out, err;
+  ASSERT_EQ(RunRunCommand(options, out, err), 0) << err.str();
+  const std::string text = out.str();
+  EXPECT_NE(text.find("(vdo): 25 frames 1242x375, masks yes, odometry yes, ground truth yes"), std::string::npos) << text;
+  EXPECT_NE(text.find("front-end: frame 25/25"), std::string::npos);
+  EXPECT_NE(text.find("frames/s"), std::string::npos);
+  for (const char* f : {"metrics.json", "camera_ours.tum", "camera_gt.kitti", "object_speeds.csv", "objects.csv",
+                        "frontend.csv", "trajectory.png", "speeds.png", "report.html"})
+    EXPECT_TRUE(fs::exists(options.out_dir + "/" + f)) << f;
+
+  std::ifstream in(options.out_dir + "/metrics.json");
+  const nlohmann::json metrics = nlohmann::json::parse(in);
+  const auto& ours = metrics["methods"]["ours"];
+  EXPECT_LT(ours["rte_pct"].get<double>(), 2.0);
+  EXPECT_LT(ours["omse_pct"].get<double>(), 10.0);
+  EXPECT_GE(ours["object_coverage"].get<double>(), 0.8);
+  EXPECT_EQ(metrics["run"]["flow_method"], "lk");
+  EXPECT_GT(metrics["run"]["frontend"]["mean_static_points"].get<double>(), 200.0);
+  EXPECT_TRUE(metrics["methods"].contains("static_only"));
+  EXPECT_TRUE(metrics["methods"].contains("slam_mot"));
+}
+
+TEST(RunCommand, DenseFlowAndOverlapAssociationAlsoFollowTheCars) {
+  RunCommandOptions options;
+  options.dataset_dir = CityDataset();
+  options.out_dir = test::TempPath("run_dis");
+  options.flow = "dis";
+  options.methods = {"ours"};
+  options.no_figures = true;
+  options.config_path = test::TempPath("overlap.yaml");
+  std::ofstream(*options.config_path) << "frontend:\n  mask_ids_tracked: false\n";
+  std::ostringstream out, err;
+  ASSERT_EQ(RunRunCommand(options, out, err), 0) << err.str();
+  std::ifstream in(options.out_dir + "/metrics.json");
+  const nlohmann::json metrics = nlohmann::json::parse(in);
+  EXPECT_EQ(metrics["run"]["flow_method"], "dis");
+  EXPECT_FALSE(metrics["methods"].contains("slam_mot"));
+  // Object ids are the front-end's own now, so only the camera is compared with the ground truth.
+  EXPECT_LT(metrics["methods"]["ours"]["rte_pct"].get<double>(), 2.0);
+  std::ifstream objects(options.out_dir + "/objects.csv");
+  std::string header, line;
+  std::getline(objects, header);
+  int rows = 0;
+  while (std::getline(objects, line)) ++rows;
+  EXPECT_GE(rows, 3);  // the city's cars in view
+}
+
+TEST(RunCommand, BadInputGivesOneLineAndExitStatus2) {
+  const std::string dir = test::TempDir("run_bad");
+  fs::create_directories(dir + "/image_0");
+  RunCommandOptions options;
+  options.dataset_dir = dir;
+  options.out_dir = test::TempPath("run_bad_out");
+  std::ostringstream out, err;
+  EXPECT_EQ(RunRunCommand(options, out, err), 2);
+  EXPECT_NE(err.str().find("dslam run: error: no .png images in " + dir + "/image_0"), std::string::npos) << err.str();
+
+  options.dataset_dir = CityDataset();
+  options.flow = "precomputed";  // the rendered city has no flow/ folder
+  err.str("");
+  EXPECT_EQ(RunRunCommand(options, out, err), 2);
+  EXPECT_NE(err.str().find("has no flow/ folder"), std::string::npos) << err.str();
+
+  const std::string bin = DSLAM_BINARY;
+  for (const char* args : {"run", "run --dataset /nonexistent", "run --dataset . --flow farneback",
+                           "run --dataset . --methods nobody"}) {
+    const int status = std::system((bin + " " + args + " > /dev/null 2>&1").c_str());
+    ASSERT_TRUE(WIFEXITED(status)) << args;
+    EXPECT_NE(WEXITSTATUS(status), 0) << args;
+  }
+  EXPECT_EQ(std::system((bin + " run --help > /dev/null").c_str()), 0);
+}
+
+}  // namespace
+}  // namespace dslam

@@ -1,0 +1,143 @@
+#include "data/image_dataset.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "data/odometry_file.h"
+#include "support/temp_paths.h"
+
+namespace dslam {
+namespace {
+namespace fs = std::filesystem;
+
+constexpr int kW = 64, kH = 48;
+
+std::string Name(int k, const char* ext) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%06d.%s", k, ext);
+  return buf;
+}
+
+void WriteCalib(const std::string& path, double baseline_px = 0.0) {
+  std::ofstream calib(path);
+  for (int i = 0; i < 4; ++i)
+    calib << 'P' << i << ": 50 0 32 " << (i == 3 ? -baseline_px : 0.0) << " 0 50 24 0 0 0 1 0\n";
+  calib << "R0_rect: 1 0 0 0 1 0 0 0 1\nTr_velo_to_cam: 0 -1 0 0 0 0 -1 0 1 0 0 0\n";
+}
+
+// A three-frame VDO-layout sequence: grey images, depth k+1 metres, a 10x10 mask with id 5.
+std::string MakeVdoDataset(const std::string& name) {
+  const std::string dir = test::TempDir(name);
+  for (const char* sub : {"image_0", "depth", "mask"}) fs::create_directories(dir + "/" + sub);
+  for (int k = 0; k < 3; ++k) {
+    cv::imwrite(dir + "/image_0/" + Name(k, "png"), cv::Mat(kH, kW, CV_8UC3, cv::Scalar(10 * k, 20, 30)));
+    cv::imwrite(dir + "/depth/" + Name(k, "png"), cv::Mat(kH, kW, CV_16UC1, cv::Scalar(1000 * (k + 1))));
+    cv::Mat mask(kH, kW, CV_16UC1, cv::Scalar(0));
+    mask(cv::Rect(5, 5, 10, 10)).setTo(5);
+    cv::imwrite(dir + "/mask/" + Name(k, "png"), mask);
+  }
+  WriteCalib(dir + "/calib.txt");
+  std::map<int, OdometryMeasurement> odometry;
+  odometry[1].T_prev_curr = SE3(Eigen::Quaterniond::Identity(), Vec3(0, 0, 1));
+  odometry[2].T_prev_curr = SE3(Eigen::Quaterniond::Identity(), Vec3(0, 0, 2));
+  WriteOdometryFile(dir + "/odometry.txt", odometry);
+  std::ofstream(dir + "/times.txt") << "0.0\n0.1\n0.2\n";
+  return dir;
+}
+
+std::string ErrorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ImageDataset, ReadsTheVdoLayoutFrameByFrame) {
+  const std::string dir = MakeVdoDataset("vdo_ok");
+  const ImageDataset data(dir, ImageDatasetOptions{});
+  EXPECT_EQ(data.layout(), "vdo");
+  ASSERT_EQ(data.size(), 3);
+  EXPECT_EQ(data.camera().width, kW);
+  EXPECT_DOUBLE_EQ(data.camera().fx, 50.0);
+  EXPECT_TRUE(data.hasMasks());
+  EXPECT_TRUE(data.hasOdometry());
+  EXPECT_FALSE(data.groundTruth());
+  const ImageFrame f = data.read(2);
+  EXPECT_EQ(f.frame_index, 2);
+  EXPECT_EQ(f.t_ns, 200'000'000);
+  EXPECT_FLOAT_EQ(f.depth_m.at<float>(10, 10), 3.0f);
+  EXPECT_EQ(f.instance_ids.at<uint16_t>(7, 7), 5);
+  EXPECT_EQ(f.instance_ids.at<uint16_t>(30, 30), 0);
+  ASSERT_TRUE(f.odometry);
+  EXPECT_DOUBLE_EQ(f.odometry->T_prev_curr.translation().z(), 2.0);
+  EXPECT_FALSE(data.read(0).odometry);
+}
+
+TEST(ImageDataset, NamesTheMissingCorruptOrMisfitFile) {
+  const std::string dir = MakeVdoDataset("vdo_bad");
+  fs::remove(dir + "/depth/" + Name(1, "png"));
+  EXPECT_NE(ErrorOf([&] { ImageDataset(dir, {}); }).find("missing " + dir + "/depth/000001.png"), std::string::npos);
+
+  const std::string dir2 = MakeVdoDataset("vdo_corrupt");
+  std::ofstream(dir2 + "/image_0/" + Name(1, "png")) << "not a png";
+  const ImageDataset data2(dir2, {});
+  EXPECT_NE(ErrorOf([&] { data2.read(1); }).find("cannot read image " + dir2 + "/image_0/000001.png"),
+            std::string::npos);
+  cv::imwrite(dir2 + "/depth/" + Name(2, "png"), cv::Mat(10, 10, CV_16UC1, cv::Scalar(1)));
+  EXPECT_NE(ErrorOf([&] { data2.read(2); }).find("depth is 10x10 but the image is 64x48"), std::string::npos);
+  cv::imwrite(dir2 + "/depth/" + Name(0, "png"), cv::Mat(kH, kW, CV_8UC3, cv::Scalar(1)));
+  EXPECT_NE(ErrorOf([&] { data2.read(0); }).find("depth PNG must be 16-bit"), std::string::npos);
+
+  const std::string dir3 = MakeVdoDataset("vdo_odometry");
+  std::ofstream(dir3 + "/odometry.txt") << "1 0 0 nan 0 0 0 1 0.1 0.1 0.1 0.01 0.01 0.01\n";
+  EXPECT_NE(ErrorOf([&] { ImageDataset(dir3, {}); }).find("odometry.txt:1: tz 'nan'"), std::string::npos);
+
+  ImageDatasetOptions bad;
+  bad.depth_encoding = "inverse_depth";
+  EXPECT_NE(ErrorOf([&] { ImageDataset(dir3, bad); }).find("unknown depth encoding 'inverse_depth'"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] { ImageDataset(dir + "/nowhere", {}); }).find("does not exist"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] { ImageDataset(test::TempDir("empty_dataset"), {}); }).find("not an image dataset"),
+            std::string::npos);
+}
+
+TEST(ImageDataset, DisparityDepthNeedsAStereoCalibration) {
+  const std::string dir = MakeVdoDataset("vdo_disparity");
+  ImageDatasetOptions options;
+  options.depth_encoding = "disparity_x256";
+  EXPECT_NE(ErrorOf([&] { ImageDataset(dir, options); }).find("stereo calibration"), std::string::npos);
+  WriteCalib(dir + "/calib.txt", 25.0);  // fx * baseline = 25: baseline 0.5 m
+  const ImageDataset data(dir, options);
+  // depth PNG value 1000 = disparity 1000 / 256 px -> z = 25 / 3.90625 = 6.4 m
+  EXPECT_NEAR(data.read(0).depth_m.at<float>(1, 1), 6.4f, 1e-4);
+}
+
+TEST(ImageDataset, KittiRawTakesDepthFromTheLidarAndNamesATruncatedScan) {
+  const std::string dir = test::TempDir("kitti_raw");
+  fs::create_directories(dir + "/image_02");
+  fs::create_directories(dir + "/velodyne_points");
+  WriteCalib(dir + "/calib.txt");
+  for (int k = 0; k < 2; ++k) {
+    cv::imwrite(dir + "/image_02/" + Name(k, "png"), cv::Mat(kH, kW, CV_8UC3, cv::Scalar(90)));
+    // One point 8 m ahead of the camera (LiDAR x forward): Tr_velo_to_cam maps (8, 0, 0) to z = 8.
+    const float record[4] = {8.0f, 0.0f, 0.0f, 0.3f};
+    std::ofstream scan(dir + "/velodyne_points/" + Name(k, "bin"), std::ios::binary);
+    scan.write(reinterpret_cast<const char*>(record), k == 0 ? 16 : 10);  // the second scan is cut short
+  }
+  const ImageDataset data(dir, {});
+  EXPECT_EQ(data.layout(), "kitti-raw");
+  EXPECT_FALSE(data.hasMasks());
+  const ImageFrame f = data.read(0);
+  EXPECT_FLOAT_EQ(f.depth_m.at<float>(24, 32), 8.0f);
+  EXPECT_FLOAT_EQ(f.depth_m.at<float>(26, 34), 8.0f);  // spread by lidar_fill_radius_px = 2
+  EXPECT_EQ(cv::countNonZero(f.depth_m), 25);
+  EXPECT_NE(ErrorOf([&] { data.read(1); }).find("not a whole number of 16-byte"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace dslam

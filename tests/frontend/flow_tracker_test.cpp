@@ -1,0 +1,98 @@
+#include "frontend/flow_tracker.h"
+
+#include <gtest/gtest.h>
+
+#include "support/synthetic_images.h"
+
+namespace dslam {
+namespace {
+
+std::vector<cv::Point2f> Grid(int width, int height, int step, int margin) {
+  std::vector<cv::Point2f> points;
+  for (int v = margin; v < height - margin; v += step)
+    for (int u = margin; u < width - margin; u += step) points.emplace_back(u, v);
+  return points;
+}
+
+class FlowMethods : public ::testing::TestWithParam<FlowMethod> {};
+
+TEST_P(FlowMethods, RecoverASubPixelTranslation) {
+  const cv::Mat prev = test::RandomTexture(320, 200, 3);
+  const double dx = 3.4, dy = -1.7;
+  const cv::Mat curr = test::Shifted(prev, dx, dy);
+  cv::Mat field(prev.size(), CV_32FC2, cv::Scalar(dx, dy));
+  FlowParams params;
+  params.method = GetParam();
+  FlowTracker tracker(params);
+  const auto points = Grid(prev.cols, prev.rows, 20, 30);
+  const FlowResult r = tracker.track(prev, curr, points, field);
+  // Both flows are sub-pixel (the bilinear shift of a blocky texture is not an exact translation locally).
+  const double tolerance = GetParam() == FlowMethod::kLucasKanade ? 0.25 : GetParam() == FlowMethod::kDis ? 0.4 : 1e-4;
+  int ok = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!r.ok[i]) continue;
+    ++ok;
+    EXPECT_NEAR(r.points[i].x - points[i].x, dx, tolerance) << i;
+    EXPECT_NEAR(r.points[i].y - points[i].y, dy, tolerance) << i;
+  }
+  EXPECT_GE(ok, static_cast<int>(0.9 * points.size()));
+}
+
+INSTANTIATE_TEST_SUITE_P(All, FlowMethods,
+                         ::testing::Values(FlowMethod::kLucasKanade, FlowMethod::kDis, FlowMethod::kPrecomputed));
+
+TEST(FlowTracker, ForwardBackwardCheckRejectsPointsWhoseContentChanged) {
+  const cv::Mat prev = test::RandomTexture(320, 200, 5);
+  cv::Mat curr = test::Shifted(prev, 2.0, 0.0);
+  // The right half is replaced by unrelated content (as if occluded): its points must not track.
+  test::RandomTexture(160, 200, 99).copyTo(curr(cv::Rect(160, 0, 160, 200)));
+  FlowTracker tracker(FlowParams{});
+  const auto points = Grid(prev.cols, prev.rows, 16, 24);
+  const FlowResult r = tracker.track(prev, curr, points);
+  int left_ok = 0, left = 0, right_ok = 0, right = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (points[i].x < 130) ++left, left_ok += r.ok[i];
+    if (points[i].x > 190) ++right, right_ok += r.ok[i];
+  }
+  EXPECT_GT(left_ok, 0.9 * left);
+  EXPECT_LT(right_ok, 0.3 * right);  // a few random matches are consistent both ways
+}
+
+TEST(FlowTracker, PredictedPositionsLetLucasKanadeFollowALargeMotion) {
+  const cv::Mat prev = test::RandomTexture(400, 200, 7);
+  const double dx = 70.0;  // beyond what a 21 px window and 1 pyramid level find from the old position
+  const cv::Mat curr = test::Shifted(prev, dx, 0.0);
+  FlowParams params;
+  params.lk_pyramid_levels = 1;
+  FlowTracker tracker(params);
+  std::vector<cv::Point2f> points, predicted;
+  for (int v = 40; v < 160; v += 20)
+    for (int u = 40; u < 300; u += 20) points.emplace_back(u, v), predicted.emplace_back(u + dx + 2.0f, v - 1.0f);
+  const FlowResult with = tracker.track(prev, curr, points, cv::Mat(), predicted);
+  const FlowResult without = tracker.track(prev, curr, points);
+  int good_with = 0, good_without = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    good_with += with.ok[i] && std::abs(with.points[i].x - points[i].x - dx) < 0.3;
+    good_without += without.ok[i] && std::abs(without.points[i].x - points[i].x - dx) < 0.3;
+  }
+  EXPECT_GT(good_with, 0.9 * points.size());
+  EXPECT_LT(good_without, 0.2 * points.size());
+}
+
+TEST(FlowTracker, ExplainsWhatIsMissing) {
+  FlowParams params;
+  params.method = FlowMethod::kPrecomputed;
+  FlowTracker tracker(params);
+  const cv::Mat image = test::RandomTexture(64, 48, 1);
+  EXPECT_THROW(tracker.track(image, image, {{10, 10}}), std::invalid_argument);  // no field
+  EXPECT_THROW(tracker.track(image, image, {{10, 10}}, cv::Mat(10, 10, CV_32FC2)), std::invalid_argument);
+  EXPECT_THROW(FlowTracker(FlowParams{}).track(image, cv::Mat(48, 64, CV_8UC3), {}), std::invalid_argument);
+  EXPECT_THROW(ParseFlowMethod("farneback"), std::invalid_argument);
+  EXPECT_EQ(ParseFlowMethod(ToString(FlowMethod::kDis)), FlowMethod::kDis);
+  FlowParams bad;
+  bad.fb_threshold_px = 0.0;
+  EXPECT_THROW(FlowTracker{bad}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace dslam

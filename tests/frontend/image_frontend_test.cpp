@@ -1,0 +1,159 @@
+#include "frontend/image_frontend.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "support/synthetic_images.h"
+
+namespace dslam {
+namespace {
+
+// A camera sliding right (+x) past a textured wall 10 m away, with a textured box face 6 m away that
+// moves right faster than the camera: whole-pixel image motions so the masks stay exact.
+constexpr double kFx = 300.0, kWallZ = 10.0, kBoxZ = 6.0;
+constexpr double kCameraStepM = 0.2;  // per frame: the wall moves 6 px left in the image
+constexpr double kBoxStepM = 0.3;     // per frame: the box moves (0.3 - 0.2) * 300 / 6 = 5 px right
+constexpr int kWidth = 320, kHeight = 200;
+
+PinholeCamera Camera() {
+  PinholeCamera c;
+  c.fx = c.fy = kFx, c.cx = kWidth / 2.0, c.cy = kHeight / 2.0, c.width = kWidth, c.height = kHeight;
+  return c;
+}
+
+ImageFrame MakeFrame(int k, int mask_label = 1) {
+  static const cv::Mat wall = test::RandomTexture(kWidth + 200, kHeight, 21);
+  static const cv::Mat box = test::RandomTexture(90, 70, 22);
+  ImageFrame f;
+  f.frame_index = k;
+  f.t_ns = k * 100'000'000LL;
+  const int wall_shift = static_cast<int>(std::lround(k * kFx * kCameraStepM / kWallZ));
+  cv::Mat image = wall(cv::Rect(wall_shift, 0, kWidth, kHeight)).clone();
+  f.depth_m = cv::Mat(kHeight, kWidth, CV_32FC1, cv::Scalar(kWallZ));
+  f.instance_ids = cv::Mat(kHeight, kWidth, CV_16UC1, cv::Scalar(0));
+  const int box_u = 60 + static_cast<int>(std::lround(k * kFx * (kBoxStepM - kCameraStepM) / kBoxZ));
+  const cv::Rect r(box_u, 70, box.cols, box.rows);
+  box.copyTo(image(r));
+  f.depth_m(r).setTo(kBoxZ);
+  f.instance_ids(r).setTo(mask_label);
+  cv::cvtColor(image, f.image, cv::COLOR_GRAY2BGR);
+  return f;
+}
+
+FrontendParams Params() {
+  FrontendParams p;
+  p.static_grid.cell_px = 20;
+  p.min_mask_area_pct = 1.0;
+  p.object_ransac.inlier_threshold_m = 0.05;  // exact depth: a point moving with the wall is an outlier
+  return p;
+}
+
+TEST(ImageFrontend, TracksTheWallAndTheMovingBoxWithTheirTrueMotions) {
+  ImageFrontend frontend(Params(), Camera());
+  FrameMeasurement prev = frontend.process(MakeFrame(0));
+  EXPECT_FALSE(prev.camera_motion_guess);
+  ASSERT_GT(prev.static_points.size(), 60u);
+  ASSERT_EQ(prev.objects.size(), 1u);
+  EXPECT_EQ(prev.objects[0].object_id, 1);
+  for (int k = 1; k <= 5; ++k) {
+    const FrameMeasurement curr = frontend.process(MakeFrame(k));
+    ASSERT_TRUE(curr.camera_motion_guess) << k;
+    EXPECT_NEAR(curr.camera_motion_guess->translation().x(), kCameraStepM, 0.01) << k;
+    EXPECT_LT(curr.camera_motion_guess->translation().tail<2>().norm(), 0.01) << k;
+    EXPECT_GT(frontend.lastStats().pnp_inliers, 50) << k;
+    EXPECT_LT(frontend.lastStats().median_fb_error_px, 0.1) << k;
+
+    // Static tracks continue with their ids; none lies on the box.
+    std::map<int64_t, Vec3> before;
+    for (const auto& p : prev.static_points) before[p.track_id] = p.p_camera;
+    int continued = 0;
+    for (const auto& p : curr.static_points) {
+      EXPECT_NEAR(p.p_camera.z(), kWallZ, 1e-3);
+      if (before.count(p.track_id)) ++continued;
+    }
+    EXPECT_GT(continued, 0.8 * before.size()) << k;
+
+    // The box's points keep their ids and move by (box - camera) in the camera frame.
+    ASSERT_EQ(curr.objects.size(), 1u);
+    std::map<int64_t, Vec3> box_before;
+    for (const auto& p : prev.objects[0].points) box_before[p.track_id] = p.p_camera;
+    int box_continued = 0;
+    double sum_dx = 0.0;
+    for (const auto& p : curr.objects[0].points) {
+      EXPECT_NEAR(p.p_camera.z(), kBoxZ, 1e-3);
+      const auto b = box_before.find(p.track_id);
+      if (b == box_before.end()) continue;
+      ++box_continued;
+      // Within a pixel (2 cm at 6 m): near the box's edge the flow window also sees the wall.
+      EXPECT_NEAR((p.p_camera - b->second).x(), kBoxStepM - kCameraStepM, 0.02);
+      sum_dx += (p.p_camera - b->second).x();
+    }
+    ASSERT_GE(box_continued, 20) << k;
+    EXPECT_NEAR(sum_dx / box_continued, kBoxStepM - kCameraStepM, 0.003) << k;
+    prev = curr;
+  }
+}
+
+TEST(ImageFrontend, FollowsTheBoxWhenTheSegmenterRelabelsItEveryFrame) {
+  FrontendParams params = Params();
+  params.association.mask_ids_tracked = false;
+  ImageFrontend frontend(params, Camera());
+  const int id = frontend.process(MakeFrame(0, 7)).objects.at(0).object_id;
+  for (int k = 1; k <= 3; ++k) {
+    const FrameMeasurement m = frontend.process(MakeFrame(k, 7 + 10 * k));
+    ASSERT_EQ(m.objects.size(), 1u);
+    EXPECT_EQ(m.objects[0].object_id, id) << k;
+  }
+}
+
+TEST(ImageFrontend, RejectsBadFramesAndCarriesOnFromTheLastGoodOne) {
+  ImageFrontend frontend(Params(), Camera());
+  frontend.process(MakeFrame(0));
+
+  ImageFrame wrong_size = MakeFrame(1);
+  cv::resize(wrong_size.image, wrong_size.image, {160, 100});
+  try {
+    frontend.process(wrong_size);
+    FAIL() << "accepted an image of the wrong size";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("depth is 320x200 but the image is 160x100"), std::string::npos) << e.what();
+  }
+  ImageFrame bad_depth = MakeFrame(1);
+  bad_depth.depth_m.convertTo(bad_depth.depth_m, CV_16U);
+  EXPECT_THROW(frontend.process(bad_depth), std::invalid_argument);
+  ImageFrame bad_mask = MakeFrame(1);
+  bad_mask.instance_ids = cv::Mat(10, 10, CV_16UC1, cv::Scalar(0));
+  EXPECT_THROW(frontend.process(bad_mask), std::invalid_argument);
+  ImageFrame nan_odometry = MakeFrame(1);
+  nan_odometry.odometry = OdometryMeasurement{};
+  nan_odometry.odometry->sigma[2] = std::nan("");
+  EXPECT_THROW(frontend.process(nan_odometry), std::invalid_argument);
+
+  const FrameMeasurement good = frontend.process(MakeFrame(1));
+  EXPECT_GT(frontend.lastStats().static_tracked, 50);  // tracks from frame 0 survived the rejected frames
+  ASSERT_TRUE(good.camera_motion_guess);
+  EXPECT_NEAR(good.camera_motion_guess->translation().x(), kCameraStepM, 0.01);
+  try {
+    frontend.process(MakeFrame(1));
+    FAIL() << "accepted a repeated frame";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("increasing order"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ImageFrontend, IgnoresMasksBelowTheAreaThresholdAndObjectsBeyondRange) {
+  FrontendParams params = Params();
+  params.min_mask_area_pct = 20.0;  // the box covers 6300 / 64000 px, under 20 %
+  ImageFrontend small(params, Camera());
+  EXPECT_TRUE(small.process(MakeFrame(0)).objects.empty());
+  params = Params();
+  params.object_max_distance_m = 5.0;  // the box is 6 m away
+  ImageFrontend far(params, Camera());
+  const FrameMeasurement m = far.process(MakeFrame(0));
+  EXPECT_TRUE(m.objects.empty());
+  for (const auto& p : m.static_points) EXPECT_NEAR(p.p_camera.z(), kWallZ, 1e-3);  // no box point became static
+}
+
+}  // namespace
+}  // namespace dslam
