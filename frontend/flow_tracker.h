@@ -22,7 +22,7 @@ FlowMethod ParseFlowMethod(const std::string& name);  // "lk", "dis", "precomput
 struct FlowParams {
   FlowMethod method = FlowMethod::kLucasKanade;
   double fb_threshold_px = 1.0;
-  int lk_window_px = 21;
+  int lk_window_px = 15;  // 21 tracks no better on KITTI-sized frames and costs twice as much
   int lk_pyramid_levels = 3;
   void validate() const;
 };

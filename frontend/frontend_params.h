@@ -12,7 +12,7 @@ namespace dslam {
 
 struct FrontendParams {
   FlowParams flow;
-  FeatureGridParams static_grid{32, 2, 10, 8.0};  // background features: up to 2 per 32 px cell
+  FeatureGridParams static_grid{48, 2, 10, 8.0};  // background features: up to 2 per 48 px cell (~400 a frame)
   FeatureGridParams object_grid{10, 1, 5, 5.0};   // object points: denser
   int object_lattice_step_px = 8;     // fill objects without enough corners from a pixel lattice
   int max_points_per_object = 150;
@@ -27,8 +27,10 @@ struct FrontendParams {
   RansacParams object_ransac{100, 0.3, 4, 17};  // per-object 3D-3D RANSAC between consecutive frames
   // An object's fitted motion may differ from its previous one by at most this acceleration (at its
   // points' centroid, in m/s^2 over the frame interval); beyond it, the fit comes from bad tracks (an
-  // occluding contour, an ambiguous texture) and the object's tracks restart.
-  double object_max_acceleration_mps2 = 15.0;
+  // occluding contour, an ambiguous texture) and the object's tracks restart. The fit is expressed in
+  // the moving camera's frame, so the bound also absorbs the camera's own turning: 4 g rejects only
+  // fits that are clearly wrong (15 m/s^2 also rejected good fits of oncoming cars on KITTI 0005).
+  double object_max_acceleration_mps2 = 40.0;
   double frame_interval_s = 0.1;  // set from the dataset's frame rate
 
   void validate() const;

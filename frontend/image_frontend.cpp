@@ -119,12 +119,23 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
   const cv::Mat labels = ToLabels(frame.instance_ids, gray.size());
   const cv::Mat& depth = frame.depth_m;
 
-  // Mask labels large enough to be objects.
+  // Mask labels large enough to be objects, with their bounding boxes (later work stays inside them).
   std::map<int, int> label_areas;
+  std::map<int, cv::Rect> label_boxes;
   for (int v = 0; v < labels.rows; ++v) {
     const int32_t* row = labels.ptr<int32_t>(v);
-    for (int u = 0; u < labels.cols; ++u)
-      if (row[u] > 0) ++label_areas[row[u]];
+    for (int u = 0; u < labels.cols;) {
+      if (row[u] <= 0) {
+        ++u;
+        continue;
+      }
+      int end = u + 1;  // a run of one label: one map update per run, not per pixel
+      while (end < labels.cols && row[end] == row[u]) ++end;
+      label_areas[row[u]] += end - u;
+      cv::Rect& box = label_boxes[row[u]];
+      box = box.empty() ? cv::Rect(u, v, end - u, 1) : (box | cv::Rect(u, v, end - u, 1));
+      u = end;
+    }
   }
   const double min_area = params_.min_mask_area_pct / 100.0 * labels.total();
   for (auto it = label_areas.begin(); it != label_areas.end();) it = it->second < min_area ? label_areas.erase(it) : ++it;
@@ -141,7 +152,7 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
     std::vector<cv::Point2f> prev_px;
     prev_px.reserve(tracks_.size());
     for (const Track& t : tracks_) prev_px.push_back(t.px);
-    const FlowResult flow = flow_.track(prev_gray_, gray, prev_px, prev_flow_to_next_, predictPixels(frame.odometry));
+    const FlowResult flow = flow_.track(prev_gray_, gray, prev_px, prev_flow_to_next_, predictPixels(frame.odometry, label_boxes));
     std::vector<float> fb;
     for (size_t i = 0; i < tracks_.size(); ++i) {
       if (!flow.ok[i]) continue;
@@ -160,6 +171,7 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
   for (size_t i = 0; i < moved.size(); ++i) {
     if (moved[i].object_id == 0) continue;
     ++tracked_per_object[moved[i].object_id];
+    ++stats.object_counts[moved[i].object_id].flowed;
     if (moved_label[i] > 0) ++votes[moved_label[i]][moved[i].object_id];
   }
   const std::map<int, int> object_of_label = associator_.associate(label_areas, votes, tracked_per_object);
@@ -214,7 +226,10 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
       dst.push_back(T_prev_curr_or_identity * p_curr_camera[i]);
     }
     auto fit = AlignRigidRansac(src, dst, params_.object_ransac);
-    if (fit && !acceptObjectMotion(object_id, fit->transform, src, fit->is_inlier, frame.frame_index)) fit.reset();
+    if (fit && !acceptObjectMotion(object_id, fit->transform, src, fit->is_inlier, frame.frame_index)) {
+      fit.reset();
+      stats.object_counts[object_id].motion_rejected = true;
+    }
     for (size_t n = 0; n < indices.size(); ++n) keep[indices[n]] = fit && fit->is_inlier[n];
   }
 
@@ -230,7 +245,7 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
 
   // 5. New points.
   const size_t before = tracks.size();
-  replenish(gray, depth, labels, near_edge, object_of_label, &tracks);
+  replenish(gray, depth, labels, near_edge, object_of_label, label_boxes, &tracks);
   for (size_t i = before; i < tracks.size(); ++i) {
     (tracks[i].object_id == 0 ? stats.static_new : stats.object_points_new)++;
     if (tracks[i].object_id != 0) ++stats.object_counts[tracks[i].object_id].added;
@@ -270,6 +285,7 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
   stats.objects = static_cast<int>(out.objects.size());
 
   tracks_ = std::move(tracks);
+  prev_label_boxes_ = std::move(label_boxes);
   last_camera_motion_ = T_prev_curr;
   for (auto it = last_object_motion_.begin(); it != last_object_motion_.end();)
     it = frame.frame_index - it->second.frame_index > kObjectMotionMemoryFrames ? last_object_motion_.erase(it) : ++it;
@@ -311,7 +327,8 @@ bool ImageFrontend::acceptObjectMotion(int object_id, const SE3& motion, const s
   return true;
 }
 
-std::vector<cv::Point2f> ImageFrontend::predictPixels(const std::optional<OdometryMeasurement>& odometry) const {
+std::vector<cv::Point2f> ImageFrontend::predictPixels(const std::optional<OdometryMeasurement>& odometry,
+                                                      const std::map<int, cv::Rect>& label_boxes) const {
   if (params_.flow.method != FlowMethod::kLucasKanade) return {};
   const std::optional<SE3> camera = odometry ? std::optional<SE3>(odometry->T_prev_curr) : last_camera_motion_;
   const SE3 T_curr_prev = camera.value_or(SE3()).inverse();
@@ -319,8 +336,19 @@ std::vector<cv::Point2f> ImageFrontend::predictPixels(const std::optional<Odomet
   predicted.reserve(tracks_.size());
   for (const Track& t : tracks_) {
     Vec3 p = t.p_camera;  // previous camera frame
-    if (t.object_id != 0)
-      if (const auto m = last_object_motion_.find(t.object_id); m != last_object_motion_.end()) p = m->second.motion * p;
+    if (t.object_id != 0) {
+      if (const auto m = last_object_motion_.find(t.object_id); m != last_object_motion_.end()) {
+        p = m->second.motion * p;
+      } else if (params_.association.mask_ids_tracked) {
+        const auto before = prev_label_boxes_.find(t.object_id), now = label_boxes.find(t.object_id);
+        if (before != prev_label_boxes_.end() && now != label_boxes.end()) {
+          const cv::Rect &a = before->second, &b = now->second;
+          predicted.emplace_back(b.x + (t.px.x - a.x) * b.width / static_cast<float>(a.width),
+                                 b.y + (t.px.y - a.y) * b.height / static_cast<float>(a.height));
+          continue;
+        }
+      }
+    }
     p = T_curr_prev * p;
     const Vec2 uv = p.z() > 0.1 ? camera_.project(p) : Vec2(t.px.x, t.px.y);
     const bool inside = uv.allFinite() && uv.x() >= 0 && uv.y() >= 0 && uv.x() <= camera_.width - 1 &&
@@ -332,7 +360,7 @@ std::vector<cv::Point2f> ImageFrontend::predictPixels(const std::optional<Odomet
 
 void ImageFrontend::replenish(const cv::Mat& gray, const cv::Mat& depth, const cv::Mat& labels,
                               const cv::Mat& near_edge, const std::map<int, int>& object_of_label,
-                              std::vector<Track>* tracks) {
+                              const std::map<int, cv::Rect>& label_boxes, std::vector<Track>* tracks) {
   const cv::Mat background = (labels == 0) & (depth >= params_.static_min_depth_m) &
                              (depth <= params_.static_max_depth_m) & ~near_edge;
   std::vector<cv::Point2f> existing;
@@ -350,17 +378,17 @@ void ImageFrontend::replenish(const cv::Mat& gray, const cv::Mat& depth, const c
   for (const auto& [label, object_id] : object_of_label) {
     const int missing = params_.max_points_per_object - points_per_object[object_id];
     if (missing <= 0) continue;
-    const cv::Mat inside = (labels == label) & (depth >= params_.static_min_depth_m) & ~near_edge;
-    const cv::Rect box = cv::boundingRect(inside);
-    if (box.empty()) continue;
+    const cv::Rect box = label_boxes.at(label);
+    const cv::Mat inside = (labels(box) == label) & (depth(box) >= params_.static_min_depth_m) & ~near_edge(box);
     std::vector<cv::Point2f> here;
     for (const Track& t : *tracks)
       if (t.object_id == object_id) here.push_back(t.px);
-    // Only the box around the mask is searched: the mask restricts the detector anyway.
-    std::vector<cv::Point2f> found = DetectOnGrid(gray(box), inside(box), {}, params_.object_grid);
-    for (auto& p : found) p += cv::Point2f(static_cast<float>(box.x), static_cast<float>(box.y));
+    const cv::Point2f offset(static_cast<float>(box.x), static_cast<float>(box.y));
+    std::vector<cv::Point2f> found = DetectOnGrid(gray(box), inside, {}, params_.object_grid);
     if (static_cast<int>(found.size()) < missing)
-      for (const auto& p : SampleLattice(inside, box, params_.object_lattice_step_px)) found.push_back(p);
+      for (const auto& p : SampleLattice(inside, cv::Rect(0, 0, box.width, box.height), params_.object_lattice_step_px))
+        found.push_back(p);
+    for (auto& p : found) p += offset;
     int added = 0;
     for (const cv::Point2f& p : found) {
       if (added >= missing) break;

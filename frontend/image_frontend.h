@@ -36,9 +36,11 @@ struct FrontendFrameStats {
   double median_fb_error_px = 0.0;  // over the points the flow kept
   std::vector<int> mask_labels;     // instance labels at least min_mask_area_pct of the image
   struct ObjectCounts {
-    int tracked = 0;  // points carried over from the previous frame (after RANSAC)
+    int flowed = 0;   // points the flow carried into this frame (forward-backward consistent)
+    int tracked = 0;  // points carried over from the previous frame (after the mask, depth and RANSAC checks)
     int added = 0;    // new points
     bool measured = false;  // in the measurement (enough points, within range)
+    bool motion_rejected = false;  // its motion fit broke the acceleration bound
   };
   std::map<int, ObjectCounts> object_counts;  // by object id
 };
@@ -62,7 +64,8 @@ class ImageFrontend {
   };
 
   void replenish(const cv::Mat& gray, const cv::Mat& depth, const cv::Mat& labels, const cv::Mat& near_edge,
-                 const std::map<int, int>& object_of_label, std::vector<Track>* tracks);
+                 const std::map<int, int>& object_of_label, const std::map<int, cv::Rect>& label_boxes,
+                 std::vector<Track>* tracks);
 
   FrontendParams params_;
   PinholeCamera camera_;
@@ -80,9 +83,14 @@ class ImageFrontend {
   // is dropped (the object really changed its motion, or the memory was wrong).
   bool acceptObjectMotion(int object_id, const SE3& motion, const std::vector<Vec3>& p_prev,
                           const std::vector<bool>& inlier, int frame_index);
-  std::vector<cv::Point2f> predictPixels(const std::optional<OdometryMeasurement>& odometry) const;
+  // An object without a known motion (new, or back after an occlusion) is predicted from its mask's
+  // bounding box in both frames when the segmenter's ids are tracked: a car coming the other way grows
+  // and moves too fast for flow started from the old position.
+  std::vector<cv::Point2f> predictPixels(const std::optional<OdometryMeasurement>& odometry,
+                                         const std::map<int, cv::Rect>& label_boxes) const;
 
   std::vector<Track> tracks_;
+  std::map<int, cv::Rect> prev_label_boxes_;  // mask label -> bounding box in the previous frame
   std::optional<SE3> last_camera_motion_;       // T_prev_curr of the last transition
   struct ObjectMotionMemory {
     SE3 motion;             // between consecutive frames, in the earlier camera frame

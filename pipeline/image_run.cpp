@@ -33,12 +33,13 @@ Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, 
     const FrontendFrameStats& st = frontend.lastStats();
     for (int label : st.mask_labels) visible.insert({k, label});
     if (frame_log) {
-      if (k == 0) *frame_log << "frame,object_id,tracked,added,measured,static_tracked,static_new,pnp_inliers,median_fb_px\n";
-      *frame_log << k << ",0," << st.static_tracked << ',' << st.static_new << ",1," << st.static_tracked << ','
-                 << st.static_new << ',' << st.pnp_inliers << ',' << st.median_fb_error_px << '\n';
+      if (k == 0)
+        *frame_log << "frame,object_id,flowed,tracked,added,measured,motion_rejected,pnp_inliers,median_fb_px\n";
+      *frame_log << k << ",0,-1," << st.static_tracked << ',' << st.static_new << ",1,0," << st.pnp_inliers << ','
+                 << st.median_fb_error_px << '\n';
       for (const auto& [id, c] : st.object_counts)
-        *frame_log << k << ',' << id << ',' << c.tracked << ',' << c.added << ',' << (c.measured ? 1 : 0) << ','
-                   << st.static_tracked << ',' << st.static_new << ',' << st.pnp_inliers << ','
+        *frame_log << k << ',' << id << ',' << c.flowed << ',' << c.tracked << ',' << c.added << ','
+                   << (c.measured ? 1 : 0) << ',' << (c.motion_rejected ? 1 : 0) << ',' << st.pnp_inliers << ','
                    << st.median_fb_error_px << '\n';
     }
     s.mean_static_tracks += st.static_tracked + st.static_new;

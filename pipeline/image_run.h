@@ -24,9 +24,9 @@ struct ImageRunSummary {
 };
 
 // max_frames <= 0: the whole dataset. Throws std::runtime_error naming the frame and file on bad input.
-// `frame_log`, when given, receives one CSV row per frame and object:
-// frame,object_id,tracked,added,measured,static_tracked,static_new,pnp_inliers,median_fb_px (object_id 0: the frame's
-// background row).
+// `frame_log`, when given, receives one CSV row per frame and object (object_id 0: the background, flowed -1):
+// frame,object_id,flowed,tracked,added,measured,motion_rejected,pnp_inliers,median_fb_px
+// (see FrontendFrameStats::ObjectCounts).
 Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, int max_frames, std::ostream* progress,
                           ImageRunSummary* summary, std::ostream* frame_log = nullptr);
 

@@ -31,7 +31,7 @@ namespace {
 constexpr double kTextureRepeatM = 4.0;  // a static texture tile covers 4 m x 4 m
 
 // Procedural texture rich in corners: random grey-level cells at two scales plus coloured discs.
-vtkSmartPointer<vtkTexture> MakeTexture(uint32_t seed) {
+vtkSmartPointer<vtkTexture> MakeTexture(uint32_t seed, bool mipmapped) {
   constexpr int kSize = 256;
   std::mt19937 rng(seed);
   std::uniform_int_distribution<int> level(20, 235), coord(0, kSize - 1), radius(3, 14);
@@ -62,6 +62,11 @@ vtkSmartPointer<vtkTexture> MakeTexture(uint32_t seed) {
   texture->SetInputData(image);
   texture->RepeatOn();
   texture->InterpolateOn();
+  // Mipmaps average the texture over each pixel's footprint, as a camera does. Without them the side of
+  // a passing car, seen at a grazing angle, sparkles with aliasing that changes from frame to frame and
+  // that optical flow follows. Only boxes get them: they cover little of the image, and mipmapping the
+  // whole world would halve the software renderer's frame rate.
+  texture->SetMipmap(mipmapped);
   return texture;
 }
 
@@ -115,11 +120,11 @@ struct RgbdRenderer::Impl {
   vtkNew<vtkRenderWindow> window;
   vtkNew<vtkRenderer> renderer;
   std::vector<vtkSmartPointer<vtkActor>> static_colour, static_mask;
-  std::map<uint32_t, vtkSmartPointer<vtkTexture>> textures;
+  std::map<std::pair<uint32_t, bool>, vtkSmartPointer<vtkTexture>> textures;
 
-  vtkTexture* texture(uint32_t seed) {
-    auto& t = textures[seed];
-    if (!t) t = MakeTexture(seed);
+  vtkTexture* texture(uint32_t seed, bool mipmapped) {
+    auto& t = textures[{seed, mipmapped}];
+    if (!t) t = MakeTexture(seed, mipmapped);
     return t;
   }
 
@@ -161,7 +166,7 @@ RgbdRenderer::RgbdRenderer(const CameraIntrinsics& camera, const std::vector<Ren
   for (const auto& quad : static_world) {
     auto poly = QuadPolyData(quad);
     auto colour = MakeActor(poly);
-    colour->SetTexture(impl_->texture(quad.texture_seed));
+    colour->SetTexture(impl_->texture(quad.texture_seed, false));
     colour->GetProperty()->SetAmbient(0.6);
     colour->GetProperty()->SetDiffuse(0.4);
     auto mask = MakeActor(poly);
@@ -201,7 +206,7 @@ RgbdFrame RgbdRenderer::render(const SE3& T_world_camera, const std::vector<Rend
     cube->Update();
     auto colour = MakeActor(cube->GetOutput());
     colour->SetUserMatrix(ToVtk(box.L_world_object));
-    colour->SetTexture(s.texture(box.texture_seed));
+    colour->SetTexture(s.texture(box.texture_seed, true));
     colour->GetProperty()->SetAmbient(0.6);
     colour->GetProperty()->SetDiffuse(0.4);
     auto mask = MakeActor(cube->GetOutput());

@@ -1,0 +1,96 @@
+// Front-end milliseconds per frame at KITTI's 1242x375 for each flow method, on one core, and the
+// back-end's milliseconds per frame in the sliding window on the same measurements.
+// Usage: bench_frontend [DATASET_DIR] [frames=60] [CONFIG.yaml]
+// Without DATASET_DIR it renders the built-in city (needs Xvfb or a display) into a scratch folder.
+// Frames are read into memory first: the figures are the front-end's own work, not PNG decoding.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <numeric>
+#include <sstream>
+
+#include <opencv2/core.hpp>
+#include <opencv2/video/tracking.hpp>
+
+#include "app/render_scene_command.h"
+#include "backend/methods.h"
+#include "data/image_dataset.h"
+#include "frontend/image_frontend.h"
+#include "pipeline/config_yaml.h"
+#include "pipeline/run_config.h"
+
+namespace {
+using Clock = std::chrono::steady_clock;
+
+double Percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string dir = argc > 1 ? argv[1] : "";
+  const int max_frames = argc > 2 ? std::atoi(argv[2]) : 60;
+  if (max_frames < 3) {
+    std::cerr << "usage: bench_frontend [DATASET_DIR] [frames >= 3]\n";
+    return 2;
+  }
+  if (dir.empty()) {
+    dir = (std::filesystem::temp_directory_path() / "dslam_bench_frontend_city").string();
+    dslam::RenderSceneOptions render;
+    render.scenario = "city", render.frames = max_frames, render.out_dir = dir, render.quiet = true;
+    if (const int status = dslam::RunRenderSceneCommand(render, std::cout, std::cerr); status != 0) return status;
+  }
+  cv::setNumThreads(1);  // the target is for one core
+  const dslam::RunConfig base = argc > 3 ? dslam::LoadRunConfig(argv[3]) : dslam::RunConfig{};
+  dslam::RunConfig config = base;
+  const dslam::ImageDataset data(dir, config.dataset);
+  const int frames = std::min(max_frames, data.size());
+  std::vector<dslam::ImageFrame> images;
+  for (int k = 0; k < frames; ++k) images.push_back(data.read(k));
+  {  // DIS fields stand in for a dataset's precomputed flow
+    auto dis = cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_FAST);
+    for (int k = 0; k + 1 < frames; ++k) {
+      cv::Mat a, b;
+      cv::cvtColor(images[k].image, a, cv::COLOR_BGR2GRAY);
+      cv::cvtColor(images[k + 1].image, b, cv::COLOR_BGR2GRAY);
+      dis->calc(a, b, images[k].flow_to_next);
+    }
+  }
+  std::printf("front-end on %d frames of %s at %dx%d, one thread\n", frames, dir.c_str(), data.camera().width,
+              data.camera().height);
+  std::printf("%-12s %10s %10s %10s %14s %14s\n", "flow", "mean ms", "median ms", "p95 ms", "static pts", "object pts");
+  std::vector<dslam::FrameMeasurement> lk_measurements;
+  for (dslam::FlowMethod method :
+       {dslam::FlowMethod::kLucasKanade, dslam::FlowMethod::kDis, dslam::FlowMethod::kPrecomputed}) {
+    dslam::FrontendParams params = config.frontend;
+    params.flow.method = method;
+    dslam::ImageFrontend frontend(params, data.camera());
+    std::vector<double> ms;
+    double static_points = 0, object_points = 0;
+    for (const auto& frame : images) {
+      const auto t0 = Clock::now();
+      dslam::FrameMeasurement m = frontend.process(frame);
+      ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+      static_points += m.static_points.size();
+      for (const auto& o : m.objects) object_points += o.points.size();
+      if (method == dslam::FlowMethod::kLucasKanade) lk_measurements.push_back(std::move(m));
+    }
+    std::printf("%-12s %10.1f %10.1f %10.1f %14.0f %14.0f\n", dslam::ToString(method).c_str(),
+                std::accumulate(ms.begin(), ms.end(), 0.0) / ms.size(), Percentile(ms, 0.5), Percentile(ms, 0.95),
+                static_points / frames, object_points / frames);
+  }
+
+  config.backend.default_mode = dslam::MotionMode::kSmoothed;
+  config.backend.schedule = {dslam::ScheduleKind::kSlidingWindow, 10};
+  dslam::LabelDynamicObjects(config.classifier, data.frameRateHz(), &lk_measurements);
+  const auto result =
+      dslam::RunMethod(dslam::Method::kOurs, config.backend, data.frameRateHz(), lk_measurements);
+  std::printf("back-end (ours, smoothed, window:10) on the lk measurements: %.1f ms per frame\n",
+              1000.0 * result.wall_time_s / frames);
+  return 0;
+}
