@@ -3,6 +3,7 @@
 
 #include <iostream>
 
+#include "app/dds_commands.h"
 #include "app/figures_command.h"
 #include "app/kitti_replay_command.h"
 #include "app/render_scene_command.h"
@@ -138,7 +139,54 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--quiet", run.quiet, "Print only errors");
   AddFigureFlags(run_cmd, &run);
 
+  dslam::ServeCommandOptions serve;
+  CLI::App* serve_cmd = app.add_subcommand(
+      "serve", "Run as a Fast DDS participant: read colour, depth, masks and odometry, publish camera odometry, "
+               "object motions and status per frame; on SIGINT/SIGTERM write the results");
+  serve_cmd->add_option("--calib", serve.calib_path, "Camera calibration, KITTI calib.txt format (P2, else P0)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  serve_cmd->add_option("--vehicle", serve.vehicles,
+                        "Vehicle topic namespace (rt/NAME/camera/...); repeat for several (default: none)");
+  serve_cmd->add_option("--domain", serve.domain_id, "DDS domain id")->capture_default_str();
+  serve_cmd->add_option("--profiles", serve.profiles_file, "Fast DDS XML profiles (QoS, transports, security)")
+      ->check(CLI::ExistingFile)
+      ->capture_default_str();
+  serve_cmd->add_option("--config", serve.config_path, "YAML run configuration")->check(CLI::ExistingFile);
+  serve_cmd->add_option("--out", serve.out_dir, "Results directory (one folder per vehicle)")->capture_default_str();
+  serve_cmd->add_flag("--no-odometry", serve.no_odometry, "Do not wait for odometry with every frame");
+  serve_cmd->add_option("--rate", serve.frame_rate_hz, "Sensor frame rate (Hz), for speeds")->capture_default_str();
+  serve_cmd->add_option("--timeout-ms", serve.timeout_ms, "An incomplete frame set is dropped after this")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  serve_cmd->add_option("--status-every", serve.status_every_s, "Console status period, s (0: never)")
+      ->capture_default_str();
+  serve_cmd->add_option("--max-run", serve.max_run_s, "Stop by itself after this many seconds (0: never)")
+      ->capture_default_str();
+
+  dslam::PublishCommandOptions publish;
+  CLI::App* publish_cmd = app.add_subcommand(
+      "publish", "Replay a recorded or rendered sequence onto a vehicle's input topics, as its sensors would");
+  publish_cmd->add_option("--dataset", publish.dataset_dir, "Dataset directory (as dslam run)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  publish_cmd->add_option("--seq", publish.sequence, "KITTI tracking layout: sequence number");
+  publish_cmd->add_option("--rate", publish.publish.rate_hz, "Frames per second")->capture_default_str();
+  publish_cmd->add_option("--vehicle", publish.publish.vehicle, "Vehicle topic namespace (default: none)");
+  publish_cmd->add_option("--domain", publish.publish.domain_id, "DDS domain id")->capture_default_str();
+  publish_cmd->add_option("--profiles", publish.publish.profiles_file, "Fast DDS XML profiles")
+      ->check(CLI::ExistingFile)
+      ->capture_default_str();
+  publish_cmd->add_option("--start-frame", publish.publish.start_frame, "First frame (resume a replay)")
+      ->capture_default_str();
+  publish_cmd->add_option("--frames", publish.publish.frames, "Frames to publish (0: to the end)")
+      ->capture_default_str();
+  publish_cmd->add_option("--wait", publish.publish.wait_for_reader_s, "Seconds to wait for a reader first")
+      ->capture_default_str();
+
   CLI11_PARSE(app, argc, argv);
+  if (serve_cmd->parsed()) return dslam::RunServeCommand(serve, std::cout, std::cerr);
+  if (publish_cmd->parsed()) return dslam::RunPublishCommand(publish, std::cout, std::cerr);
   if (run_cmd->parsed()) return dslam::RunRunCommand(run, std::cout, std::cerr);
   if (render_cmd->parsed()) return dslam::RunRenderSceneCommand(render, std::cout, std::cerr);
   if (sim_cmd->parsed()) return dslam::RunSimCommand(sim, std::cout, std::cerr);

@@ -1,5 +1,7 @@
 #include "backend/estimator.h"
 
+#include <algorithm>
+
 #include <chrono>
 #include <stdexcept>
 
@@ -53,26 +55,44 @@ SolveOptions Estimator::solveOptions(int first_frame, int last_frame, int max_it
   return solve;
 }
 
+ObjectMotionEstimate Estimator::motionEstimate(const ObjectTransition& tr) const {
+  ObjectMotionEstimate m;
+  m.object_id = tr.object_id;
+  m.frame = tr.frame;
+  m.is_dynamic = tr.is_dynamic;
+  if (tr.is_dynamic) m.H_world = graph_.motions[tr.motion_var].worldMotion();
+  Vec3 centroid = Vec3::Zero();
+  for (int v : tr.prev_point_vars) {
+    const auto& p = graph_.points[v].p_world;
+    centroid += Vec3(p[0], p[1], p[2]);
+  }
+  if (!tr.prev_point_vars.empty()) centroid /= static_cast<double>(tr.prev_point_vars.size());
+  m.centroid_prev_world = centroid;
+  m.velocity_world_per_frame = tr.is_dynamic ? ObjectVelocityPerFrame(m.H_world, centroid) : Vec3::Zero();
+  m.speed_mps = SpeedMps(m.velocity_world_per_frame, frame_rate_hz_);
+  return m;
+}
+
+FrameEstimate Estimator::latest() const {
+  FrameEstimate out;
+  if (graph_.numFrames() == 0) return out;
+  out.frame = graph_.numFrames() - 1;
+  out.T_world_camera = BlockToPose(graph_.camera_poses.back().data());
+  // Transitions are appended frame by frame: the newest frame's are at the back.
+  for (auto it = graph_.transitions.rbegin(); it != graph_.transitions.rend() && it->frame == out.frame; ++it) {
+    if (it->is_dynamic && it->motion_var < 0) continue;
+    out.object_motions.push_back(motionEstimate(*it));
+  }
+  std::reverse(out.object_motions.begin(), out.object_motions.end());
+  return out;
+}
+
 Estimate Estimator::extract() const {
   Estimate est;
   for (const auto& block : graph_.camera_poses) est.T_world_camera.push_back(BlockToPose(block.data()));
   for (const auto& tr : graph_.transitions) {
     if (tr.is_dynamic && tr.motion_var < 0) continue;  // no estimate for this transition
-    ObjectMotionEstimate m;
-    m.object_id = tr.object_id;
-    m.frame = tr.frame;
-    m.is_dynamic = tr.is_dynamic;
-    if (tr.is_dynamic) m.H_world = graph_.motions[tr.motion_var].worldMotion();
-    Vec3 centroid = Vec3::Zero();
-    for (int v : tr.prev_point_vars) {
-      const auto& p = graph_.points[v].p_world;
-      centroid += Vec3(p[0], p[1], p[2]);
-    }
-    if (!tr.prev_point_vars.empty()) centroid /= static_cast<double>(tr.prev_point_vars.size());
-    m.centroid_prev_world = centroid;
-    m.velocity_world_per_frame = tr.is_dynamic ? ObjectVelocityPerFrame(m.H_world, centroid) : Vec3::Zero();
-    m.speed_mps = SpeedMps(m.velocity_world_per_frame, frame_rate_hz_);
-    est.object_motions.push_back(m);
+    est.object_motions.push_back(motionEstimate(tr));
   }
   for (int k = 0; k < graph_.numFrames(); ++k) {
     for (const auto& meas : graph_.frames[k].measurements) {

@@ -18,6 +18,15 @@ struct EstimatorOptions {
   const std::vector<SE3>* fixed_T_world_camera = nullptr;
 };
 
+// The current estimate of the newest frame: its camera pose and the object motions into it. This is
+// what a vehicle can act on at once; later sliding-window solves may still refine both.
+struct FrameEstimate {
+  int frame = 0;
+  int64_t t_ns = 0;
+  SE3 T_world_camera;
+  std::vector<ObjectMotionEstimate> object_motions;
+};
+
 class Estimator {
  public:
   Estimator(const BackendParams& params, double frame_rate_hz, const EstimatorOptions& options = {});
@@ -25,6 +34,8 @@ class Estimator {
   void addFrame(const FrameMeasurement& frame);
   // Runs the final batch solve (batch schedule) and extracts the estimate.
   Estimate finish();
+  // The newest frame's estimate (cost independent of the sequence length).
+  FrameEstimate latest() const;
 
   // Wall time of the solve that followed each frame (sliding window only), milliseconds.
   const std::vector<double>& solveTimesMs() const { return solve_times_ms_; }
@@ -35,6 +46,7 @@ class Estimator {
 
  private:
   Estimate extract() const;
+  ObjectMotionEstimate motionEstimate(const ObjectTransition& transition) const;
   SolveOptions solveOptions(int first_frame, int last_frame, int max_iterations) const;
 
   BackendParams params_;

@@ -7,10 +7,15 @@
 namespace dslam {
 namespace {
 Estimate RunEstimator(const BackendParams& params, double frame_rate_hz, const std::vector<FrameMeasurement>& frames,
-                      const EstimatorOptions& options, const ProgressCallback& progress, std::vector<double>* solve_ms) {
+                      const EstimatorOptions& options, const ProgressCallback& progress, std::vector<double>* solve_ms,
+                      std::vector<FrameEstimate>* online = nullptr) {
   Estimator estimator(params, frame_rate_hz, options);
   for (size_t k = 0; k < frames.size(); ++k) {
     estimator.addFrame(frames[k]);
+    if (online) {
+      online->push_back(estimator.latest());
+      online->back().t_ns = frames[k].t_ns;
+    }
     if (progress) progress(static_cast<int>(k + 1), static_cast<int>(frames.size()));
   }
   Estimate est = estimator.finish();
@@ -34,7 +39,8 @@ MethodResult RunMethod(Method method, const BackendParams& params, double frame_
   MethodResult result;
   EstimatorOptions options;
   if (method == Method::kOurs) {
-    result.estimate = RunEstimator(params, frame_rate_hz, frames, options, progress, &result.solve_times_ms);
+    result.estimate =
+        RunEstimator(params, frame_rate_hz, frames, options, progress, &result.solve_times_ms, &result.online);
   } else {
     options.builder.use_objects = false;
     Estimate static_stage = RunEstimator(params, frame_rate_hz, frames, options, progress, &result.solve_times_ms);

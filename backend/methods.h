@@ -10,6 +10,7 @@
 
 #include "backend/backend_params.h"
 #include "backend/estimate.h"
+#include "backend/estimator.h"
 #include "data/measurements.h"
 
 namespace dslam {
@@ -21,6 +22,9 @@ struct MethodResult {
   Estimate estimate;
   double wall_time_s = 0.0;
   std::vector<double> solve_times_ms;  // sliding window: per frame
+  // Ours: each frame's estimate as it stood right after that frame was added (what an online system
+  // publishes); `estimate` is the final one.
+  std::vector<FrameEstimate> online;
 };
 
 // Called after each frame added, with (frames done, total); may print progress.

@@ -140,6 +140,12 @@ void WriteRunOutputs(const std::string& dir, const Sequence& seq, const MethodOu
     WriteTumTrajectory(dir + "/camera_" + ToString(method) + ".tum", t_ns, outcome.result.estimate.T_world_camera);
     WriteKittiTrajectory(dir + "/camera_" + ToString(method) + ".kitti", outcome.result.estimate.T_world_camera);
     if (method == Method::kOurs) {
+      if (!outcome.result.online.empty()) {  // what an online run knew at each frame
+        std::vector<int64_t> online_t_ns;
+        std::vector<SE3> online_poses;
+        for (const FrameEstimate& e : outcome.result.online) online_t_ns.push_back(e.t_ns), online_poses.push_back(e.T_world_camera);
+        WriteTumTrajectory(dir + "/camera_ours_online.tum", online_t_ns, online_poses);
+      }
       WriteObjectTables(dir, "", seq, outcome.result.estimate);
       WriteMapPoints(dir + "/map_points.csv", outcome.result.estimate);
       WriteObjectsCsv(dir + "/objects.csv", SummariseObjects(seq, outcome.result.estimate));

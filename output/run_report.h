@@ -24,7 +24,8 @@ using MethodOutcomes = std::map<Method, MethodOutcome>;
 nlohmann::json MethodMetricsJson(const MethodMetrics& metrics, double wall_time_s);
 
 // Writes into `dir` (created if needed): metrics.json, camera_{gt,ours,static_only,slam_mot}.{tum,kitti} (gt
-// only when the sequence has ground truth),
+// only when the sequence has ground truth), camera_ours_online.tum (each frame's pose as it stood right after
+// that frame, when the run recorded it),
 // object_motions.csv and object_speeds.csv (ours), object_motions_slam_mot.csv, object_speeds_slam_mot.csv,
 // object_centroids_gt.csv (frame,object_id,category,observed,x,y,z) and map_points.csv (ours:
 // frame,object_id,x,y,z; static landmarks once with frame -1 and object_id -1) and objects.csv (ours, one

@@ -1,0 +1,97 @@
+#include "app/dds_commands.h"
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <thread>
+
+#include "data/kitti_tracking.h"
+#include "pipeline/config_yaml.h"
+
+namespace dslam {
+namespace {
+
+std::atomic<bool> g_stop{false};
+extern "C" void OnStopSignal(int) { g_stop = true; }
+
+void InstallStopHandlers() {
+  g_stop = false;
+  std::signal(SIGINT, OnStopSignal);
+  std::signal(SIGTERM, OnStopSignal);
+}
+
+}  // namespace
+
+int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::ostream& err) {
+  ServeOptions serve;
+  RunConfig config;
+  try {
+    if (options.config_path) config = LoadRunConfig(*options.config_path);
+    config.backend.default_mode = MotionMode::kSmoothed;  // as dslam run
+    config.backend.schedule = {ScheduleKind::kSlidingWindow, 10};
+    if (options.calib_path.empty()) throw std::invalid_argument("--calib FILE is required (KITTI calib.txt format)");
+    const KittiCalibration calib = ReadKittiCalibration(options.calib_path);
+    const auto& P = calib.P[2](0, 0) > 0.0 ? calib.P[2] : calib.P[0];
+    serve.camera.fx = P(0, 0), serve.camera.fy = P(1, 1), serve.camera.cx = P(0, 2), serve.camera.cy = P(1, 2);
+    serve.camera.width = serve.camera.height = 0;  // from the first frame
+    serve.domain_id = options.domain_id;
+    serve.profiles_file = options.profiles_file;
+    if (!options.vehicles.empty()) serve.vehicles = options.vehicles;
+    serve.assembler.expect_odometry = !options.no_odometry;
+    serve.assembler.timeout_ns = static_cast<int64_t>(options.timeout_ms) * 1'000'000;
+    serve.frame_rate_hz = options.frame_rate_hz;
+    serve.out_dir = options.out_dir;
+    if (options.domain_id < 0 || options.domain_id > 232) throw std::invalid_argument("--domain must be in 0..232");
+    serve.assembler.validate();
+  } catch (const std::exception& e) {
+    err << "dslam serve: error: " << e.what() << std::endl;
+    return 2;
+  }
+  InstallStopHandlers();
+  try {
+    ServeNode node(serve, config);
+    out << "dslam serve: domain " << options.domain_id << ", vehicles:";
+    for (const auto& v : serve.vehicles) out << " '" << v << "'";
+    out << "; waiting for frames (SIGINT or SIGTERM to stop)" << std::endl;
+    const auto start = std::chrono::steady_clock::now();
+    auto last_status = start;
+    while (!g_stop) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      const auto now = std::chrono::steady_clock::now();
+      if (options.max_run_s > 0 && std::chrono::duration<double>(now - start).count() > options.max_run_s) break;
+      if (options.status_every_s > 0 && std::chrono::duration<double>(now - last_status).count() > options.status_every_s) {
+        last_status = now;
+        for (const auto& [name, s] : node.status())
+          out << "  vehicle '" << name << "': " << s.counters.parts_received << " samples, " << s.frames_processed
+              << " frames processed, " << s.counters.dropped_incomplete << " incomplete, "
+              << s.counters.rejected_invalid << " rejected" << (s.counters.last_rejection.empty() ? "" : " (last: ")
+              << s.counters.last_rejection << (s.counters.last_rejection.empty() ? "" : ")") << std::endl;
+      }
+    }
+    out << "dslam serve: stopping" << std::endl;
+    node.shutdown(out);
+    return 0;
+  } catch (const std::exception& e) {
+    err << "dslam serve: error: " << e.what() << std::endl;
+    return 4;
+  }
+}
+
+int RunPublishCommand(const PublishCommandOptions& options, std::ostream& out, std::ostream& err) {
+  InstallStopHandlers();
+  try {
+    ImageDatasetOptions dataset_options;
+    dataset_options.sequence = options.sequence;
+    const ImageDataset dataset(options.dataset_dir, dataset_options);
+    out << "dslam publish: " << dataset.size() << " frames of " << options.dataset_dir << " at "
+        << options.publish.rate_hz << " Hz on domain " << options.publish.domain_id << std::endl;
+    const int n = PublishDataset(dataset, options.publish, out, &g_stop);
+    out << "dslam publish: " << n << " frames published" << std::endl;
+    return 0;
+  } catch (const std::exception& e) {
+    err << "dslam publish: error: " << e.what() << std::endl;
+    return 2;
+  }
+}
+
+}  // namespace dslam

@@ -1,0 +1,40 @@
+#pragma once
+// `dslam serve` and `dslam publish`: the DDS participant and the dataset replayer (plugin/).
+
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "plugin/dataset_publisher.h"
+#include "plugin/serve_node.h"
+
+namespace dslam {
+
+struct ServeCommandOptions {
+  std::optional<std::string> config_path;
+  std::string calib_path;               // KITTI-format calib.txt: the camera's intrinsics (P2, else P0)
+  std::vector<std::string> vehicles;    // empty: one pipeline without namespace
+  int domain_id = 0;
+  std::string profiles_file = "config/dds_profiles.xml";
+  std::string out_dir = "results/serve";
+  bool no_odometry = false;             // do not wait for odometry with every frame
+  double frame_rate_hz = 10.0;
+  int timeout_ms = 500;
+  double status_every_s = 5.0;          // status line period on the console (0: never)
+  double max_run_s = 0.0;               // stop by itself after this long (0: only on SIGINT/SIGTERM)
+};
+
+// Runs until SIGINT or SIGTERM (or max_run_s), then writes every vehicle's results. Exit codes: 0 done,
+// 2 bad options or configuration, 4 DDS could not start.
+int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::ostream& err);
+
+struct PublishCommandOptions {
+  std::string dataset_dir;
+  std::string sequence;
+  PublishOptions publish;
+};
+
+int RunPublishCommand(const PublishCommandOptions& options, std::ostream& out, std::ostream& err);
+
+}  // namespace dslam

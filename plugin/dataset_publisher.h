@@ -1,0 +1,29 @@
+#pragma once
+// `dslam publish`: replays a recorded or rendered image sequence onto a vehicle's input topics as its
+// sensors would: colour (bgr8), depth (32FC1 metres), instance mask (16UC1) and odometry (the pose
+// accumulated from the dataset's increments) with the dataset's stamps, at a fixed rate.
+
+#include <atomic>
+#include <ostream>
+#include <string>
+
+#include "data/image_dataset.h"
+
+namespace dslam {
+
+struct PublishOptions {
+  int domain_id = 0;
+  std::string profiles_file = "config/dds_profiles.xml";
+  std::string vehicle;       // topic namespace ("" = rt/camera/...)
+  double rate_hz = 10.0;
+  int start_frame = 0;       // resume a replay (stamps continue where they were)
+  int frames = 0;            // 0: to the end
+  double wait_for_reader_s = 10.0;  // wait this long for a reader of the colour topic before publishing
+};
+
+// Returns the number of frames published; stops early when *stop becomes true. Throws
+// std::runtime_error when the participant cannot be created or a frame cannot be read.
+int PublishDataset(const ImageDataset& dataset, const PublishOptions& options, std::ostream& log,
+                   const std::atomic<bool>* stop = nullptr);
+
+}  // namespace dslam

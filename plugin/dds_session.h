@@ -1,0 +1,47 @@
+#pragma once
+// Internal to plugin/: one DomainParticipant with its publisher and subscriber, types registered, and
+// readers/writers created from the named profiles of the XML file (config/dds_profiles.xml):
+//   participant "dslam_participant", readers "sensor_reader" and "estimate_reader", writers
+//   "sensor_writer" and "estimate_writer".
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+
+namespace dslam {
+
+class DdsSession {
+ public:
+  // Throws std::runtime_error naming the profile file or the entity that could not be created.
+  DdsSession(int domain_id, const std::string& profiles_file);
+  ~DdsSession();
+  DdsSession(const DdsSession&) = delete;
+  DdsSession& operator=(const DdsSession&) = delete;
+
+  // `type` is a generated PubSubType, e.g. new sensor_msgs::msg::ImagePubSubType(); registered once per name.
+  eprosima::fastdds::dds::DataReader* reader(const std::string& topic, eprosima::fastdds::dds::TopicDataType* type,
+                                             const std::string& profile,
+                                             eprosima::fastdds::dds::DataReaderListener* listener);
+  eprosima::fastdds::dds::DataWriter* writer(const std::string& topic, eprosima::fastdds::dds::TopicDataType* type,
+                                             const std::string& profile);
+
+ private:
+  eprosima::fastdds::dds::Topic* topic(const std::string& name, eprosima::fastdds::dds::TopicDataType* type);
+
+  eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
+  eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
+  eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
+  std::map<std::string, eprosima::fastdds::dds::TypeSupport> types_;
+  std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
+};
+
+}  // namespace dslam

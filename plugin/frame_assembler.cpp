@@ -1,0 +1,101 @@
+#include "plugin/frame_assembler.h"
+
+#include <stdexcept>
+
+namespace dslam {
+
+void AssemblerParams::validate() const {
+  if (timeout_ns <= 0) throw std::invalid_argument("assembler timeout must be positive");
+  if (max_pending < 1) throw std::invalid_argument("assembler max_pending must be >= 1");
+}
+
+FrameAssembler::FrameAssembler(const AssemblerParams& params) : params_(params) { params_.validate(); }
+
+void FrameAssembler::reject(const std::string& reason) {
+  ++counters_.rejected_invalid;
+  counters_.last_rejection = reason;
+}
+
+FrameAssembler::Pending* FrameAssembler::slot(int64_t t_ns, const char* what) {
+  ++counters_.parts_received;
+  if (last_released_ns_ && t_ns <= *last_released_ns_) {
+    reject(std::string(what) + " stamp " + std::to_string(t_ns) + " ns is not after the last assembled frame (" +
+           std::to_string(*last_released_ns_) + " ns): stamps went backwards or the sample came too late");
+    return nullptr;
+  }
+  auto it = pending_.find(t_ns);
+  if (it == pending_.end()) {
+    if (static_cast<int>(pending_.size()) >= params_.max_pending) {
+      if (t_ns < pending_.begin()->first) {  // older than everything waiting: it is the one to drop
+        ++counters_.dropped_queue_full;
+        return nullptr;
+      }
+      pending_.erase(pending_.begin());
+      ++counters_.dropped_queue_full;
+    }
+    it = pending_.emplace(t_ns, Pending{}).first;
+  }
+  newest_ns_ = std::max(newest_ns_, t_ns);
+  return &it->second;
+}
+
+void FrameAssembler::addColour(int64_t t_ns, const cv::Mat& image) {
+  if (Pending* p = slot(t_ns, "colour")) p->colour = image;
+}
+void FrameAssembler::addDepth(int64_t t_ns, const cv::Mat& depth_m) {
+  if (Pending* p = slot(t_ns, "depth")) p->depth = depth_m;
+}
+void FrameAssembler::addMask(int64_t t_ns, const cv::Mat& instance_ids) {
+  if (Pending* p = slot(t_ns, "mask")) p->mask = instance_ids;
+}
+void FrameAssembler::addOdometry(int64_t t_ns, const StampedPose& pose) {
+  if (!pose.T_odom_camera.translation().allFinite() || !pose.T_odom_camera.rotation().coeffs().allFinite() ||
+      !pose.sigma.allFinite() || (pose.sigma.array() <= 0.0).any()) {
+    ++counters_.parts_received;
+    reject("odometry at " + std::to_string(t_ns) + " ns is not finite or has non-positive sigmas");
+    return;
+  }
+  if (Pending* p = slot(t_ns, "odometry")) p->pose = pose;
+}
+
+bool FrameAssembler::complete(const Pending& p) const {
+  return !p.colour.empty() && !p.depth.empty() && (!params_.expect_mask || !p.mask.empty()) &&
+         (!params_.expect_odometry || p.pose.has_value());
+}
+
+std::vector<ImageFrame> FrameAssembler::takeReady() {
+  std::vector<ImageFrame> ready;
+  while (!pending_.empty()) {
+    auto it = pending_.begin();
+    if (!complete(it->second)) {
+      // The oldest set waits for its missing parts (topics arrive in any order) until it times out;
+      // later sets wait behind it so that frames leave in stamp order.
+      if (newest_ns_ - it->first < params_.timeout_ns) break;
+      pending_.erase(it);
+      ++counters_.dropped_incomplete;
+      continue;
+    }
+    ImageFrame frame;
+    frame.frame_index = next_frame_index_++;
+    frame.t_ns = it->first;
+    frame.image = it->second.colour;
+    frame.depth_m = it->second.depth;
+    frame.instance_ids = it->second.mask;
+    if (it->second.pose) {
+      if (last_released_pose_) {
+        OdometryMeasurement odometry;
+        odometry.T_prev_curr = last_released_pose_->T_odom_camera.inverse() * it->second.pose->T_odom_camera;
+        odometry.sigma = it->second.pose->sigma;
+        frame.odometry = odometry;
+      }
+      last_released_pose_ = it->second.pose;
+    }
+    last_released_ns_ = it->first;
+    pending_.erase(it);
+    ++counters_.frames_assembled;
+    ready.push_back(std::move(frame));
+  }
+  return ready;
+}
+
+}  // namespace dslam

@@ -1,0 +1,79 @@
+#pragma once
+// Assembles the per-frame inputs that arrive on separate topics (colour, depth, instance mask,
+// odometry) into one ImageFrame, by their header stamp. Nothing here blocks or grows without bound:
+//  - a set is complete when it has colour, depth, a mask (when masks are expected) and odometry (when
+//    odometry is expected); complete sets are released in stamp order;
+//  - a set older than `timeout_ns` behind the newest stamp seen is dropped as incomplete;
+//  - at most `max_pending` sets wait; a new stamp beyond that drops the oldest (counted);
+//  - a part whose stamp is not newer than the last released frame is rejected (stamps going backwards).
+// Middleware-free: the DDS readers hand it decoded parts (plugin/image_message.h).
+
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "frontend/image_frame.h"
+
+namespace dslam {
+
+struct AssemblerParams {
+  bool expect_mask = true;
+  bool expect_odometry = false;
+  int64_t timeout_ns = 500'000'000;  // 0.5 s: five frames at 10 Hz
+  int max_pending = 8;
+  void validate() const;
+};
+
+struct AssemblerCounters {
+  uint64_t parts_received = 0;
+  uint64_t frames_assembled = 0;
+  uint64_t dropped_incomplete = 0;
+  uint64_t dropped_queue_full = 0;
+  uint64_t rejected_invalid = 0;
+  std::string last_rejection;
+};
+
+// A vehicle pose at a stamp (odometry input: the pose of the vehicle's camera in its odometry frame).
+struct StampedPose {
+  SE3 T_odom_camera;
+  Vec6 sigma = Vec6::Constant(0.01);  // of the increment derived from consecutive poses
+};
+
+class FrameAssembler {
+ public:
+  explicit FrameAssembler(const AssemblerParams& params);
+
+  void addColour(int64_t t_ns, const cv::Mat& image);
+  void addDepth(int64_t t_ns, const cv::Mat& depth_m);
+  void addMask(int64_t t_ns, const cv::Mat& instance_ids);
+  void addOdometry(int64_t t_ns, const StampedPose& pose);
+  // Counts a sample that could not be decoded (the reason names the topic and the problem).
+  void reject(const std::string& reason);
+
+  // Complete frames in stamp order, numbered 0, 1, 2, ... with the odometry increment from the
+  // previous released frame's pose. Also applies the timeout against the newest stamp seen.
+  std::vector<ImageFrame> takeReady();
+
+  const AssemblerCounters& counters() const { return counters_; }
+
+ private:
+  struct Pending {
+    cv::Mat colour, depth, mask;
+    std::optional<StampedPose> pose;
+  };
+  Pending* slot(int64_t t_ns, const char* what);
+  bool complete(const Pending& p) const;
+
+  AssemblerParams params_;
+  std::map<int64_t, Pending> pending_;
+  std::optional<int64_t> last_released_ns_;
+  std::optional<StampedPose> last_released_pose_;
+  int64_t newest_ns_ = 0;
+  int next_frame_index_ = 0;
+  AssemblerCounters counters_;
+};
+
+}  // namespace dslam

@@ -1,0 +1,54 @@
+#pragma once
+// `dslam serve`'s participant: per vehicle (topic namespace) it reads colour, depth, instance mask and
+// odometry, assembles frames by stamp, runs the online pipeline on a worker thread and publishes the
+// camera pose (nav_msgs/Odometry), the object motions and a status after every frame. No Fast DDS type
+// appears in this header: the command line links it without including Fast DDS.
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "geometry/pinhole_camera.h"
+#include "pipeline/run_config.h"
+#include "plugin/frame_assembler.h"
+
+namespace dslam {
+
+struct ServeOptions {
+  int domain_id = 0;
+  std::string profiles_file = "config/dds_profiles.xml";
+  std::vector<std::string> vehicles = {""};  // "" = no namespace (rt/camera/...)
+  AssemblerParams assembler;
+  PinholeCamera camera;          // intrinsics; width/height 0 = from the first frame
+  double frame_rate_hz = 10.0;
+  std::string out_dir = "results/serve";  // results per vehicle under out_dir/<vehicle or "default">
+};
+
+struct VehicleStatus {
+  AssemblerCounters counters;
+  uint64_t frames_processed = 0;
+  double last_latency_ms = 0.0;  // frame assembled -> its estimate published
+};
+
+class ServeNode {
+ public:
+  // Throws std::runtime_error when the participant or an endpoint cannot be created.
+  ServeNode(const ServeOptions& options, const RunConfig& config);
+  ~ServeNode();
+  ServeNode(const ServeNode&) = delete;
+  ServeNode& operator=(const ServeNode&) = delete;
+
+  std::map<std::string, VehicleStatus> status() const;
+  // Stops reading, finishes the frames already assembled, writes every vehicle's results
+  // (WriteRunOutputs layout, ours, plus camera_ours_online.tum) and reports where.
+  void shutdown(std::ostream& log);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace dslam

@@ -1,0 +1,36 @@
+#include "plugin/vehicle_pipeline.h"
+
+#include <stdexcept>
+
+namespace dslam {
+
+VehiclePipeline::VehiclePipeline(const RunConfig& config, const PinholeCamera& camera, double frame_rate_hz)
+    : config_(config),
+      camera_(camera),
+      classifier_(config.classifier, frame_rate_hz),
+      estimator_(config.backend, frame_rate_hz) {
+  config_.validate();
+  config_.frontend.frame_interval_s = 1.0 / frame_rate_hz;
+  sequence_.frame_rate_hz = frame_rate_hz;
+}
+
+FrameEstimate VehiclePipeline::process(const ImageFrame& frame_in) {
+  if (!frontend_) {
+    if (camera_.width == 0 || camera_.height == 0) camera_.width = frame_in.image.cols, camera_.height = frame_in.image.rows;
+    frontend_ = std::make_unique<ImageFrontend>(config_.frontend, camera_);
+  }
+  // The back-end numbers frames 0, 1, 2, ... as they reach it.
+  ImageFrame frame = frame_in;
+  frame.frame_index = framesProcessed();
+  FrameMeasurement m = frontend_->process(frame);
+  if (!sequence_.frames.empty()) classifier_.label(sequence_.frames.back(), &m);
+  estimator_.addFrame(m);
+  sequence_.frames.push_back(std::move(m));
+  FrameEstimate latest = estimator_.latest();
+  latest.t_ns = frame.t_ns;
+  return latest;
+}
+
+Estimate VehiclePipeline::finish() { return estimator_.finish(); }
+
+}  // namespace dslam
