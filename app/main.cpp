@@ -159,6 +159,10 @@ int main(int argc, char** argv) {
   serve_cmd->add_option("--timeout-ms", serve.timeout_ms, "An incomplete frame set is dropped after this")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  serve_cmd->add_option("--max-pending", serve.max_pending,
+                        "Frame sets held while the pipeline is busy; beyond, the oldest is dropped and counted")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   serve_cmd->add_option("--status-every", serve.status_every_s, "Console status period, s (0: never)")
       ->capture_default_str();
   serve_cmd->add_option("--max-run", serve.max_run_s, "Stop by itself after this many seconds (0: never)")

@@ -40,7 +40,7 @@ int PublishDataset(const ImageDataset& dataset, const PublishOptions& options, s
 
   // The vehicle's pose in its odometry frame, accumulated from the increments.
   SE3 T_odom_camera;
-  for (int k = 1; k <= options.start_frame; ++k) {
+  for (int k = 1; k < options.start_frame; ++k) {
     const ImageFrame f = dataset.read(k);  // only its odometry is needed; datasets are small enough
     if (f.odometry) T_odom_camera = T_odom_camera * f.odometry->T_prev_curr;
   }
@@ -50,12 +50,10 @@ int PublishDataset(const ImageDataset& dataset, const PublishOptions& options, s
   int published = 0;
   for (int k = options.start_frame; k < end && !(stop && *stop); ++k) {
     const ImageFrame frame = dataset.read(k);
-    Vec6 sigma = Vec6::Constant(0.01);
-    if (frame.odometry && k > options.start_frame) {
+    Vec6 sigma = Vec6::Constant(0.01);  // the first frame's pose starts the chain; its sigma is not used
+    if (frame.odometry) {
       T_odom_camera = T_odom_camera * frame.odometry->T_prev_curr;
       sigma = frame.odometry->sigma;
-    } else if (frame.odometry) {
-      T_odom_camera = T_odom_camera * frame.odometry->T_prev_curr;
     }
     sensor_msgs::msg::Image colour_msg = EncodeImage(frame.image, ImageRole::kColour, frame.t_ns, "camera");
     sensor_msgs::msg::Image depth_msg = EncodeImage(frame.depth_m, ImageRole::kDepth, frame.t_ns, "camera");

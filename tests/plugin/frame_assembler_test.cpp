@@ -1,0 +1,93 @@
+#include "plugin/frame_assembler.h"
+
+#include <gtest/gtest.h>
+
+namespace dslam {
+namespace {
+
+const cv::Mat kImage(4, 6, CV_8UC3, cv::Scalar(1, 2, 3));
+const cv::Mat kDepth(4, 6, CV_32FC1, cv::Scalar(2.0f));
+const cv::Mat kMask(4, 6, CV_16UC1, cv::Scalar(0));
+
+StampedPose PoseAt(double z) {
+  StampedPose p;
+  p.T_odom_camera = SE3(Eigen::Quaterniond::Identity(), Vec3(0, 0, z));
+  return p;
+}
+
+void AddAll(FrameAssembler& a, int64_t t, double z) {
+  a.addOdometry(t, PoseAt(z));
+  a.addMask(t, kMask);
+  a.addDepth(t, kDepth);
+  a.addColour(t, kImage);
+}
+
+AssemblerParams WithOdometry() {
+  AssemblerParams p;
+  p.expect_odometry = true;
+  return p;
+}
+
+TEST(FrameAssembler, ReleasesCompleteSetsInStampOrderWithOdometryIncrements) {
+  FrameAssembler a(WithOdometry());
+  // Frame 200 completes before frame 100's colour arrives: it waits behind it.
+  AddAll(a, 200, 3.0);
+  a.addOdometry(100, PoseAt(1.0));
+  a.addDepth(100, kDepth);
+  a.addMask(100, kMask);
+  EXPECT_TRUE(a.takeReady().empty());
+  a.addColour(100, kImage);
+  const auto frames = a.takeReady();
+  ASSERT_EQ(frames.size(), 2u);
+  EXPECT_EQ(frames[0].t_ns, 100);
+  EXPECT_EQ(frames[0].frame_index, 0);
+  EXPECT_FALSE(frames[0].odometry);  // the first frame has no increment
+  EXPECT_EQ(frames[1].frame_index, 1);
+  ASSERT_TRUE(frames[1].odometry);
+  EXPECT_NEAR(frames[1].odometry->T_prev_curr.translation().z(), 2.0, 1e-12);
+  EXPECT_EQ(a.counters().frames_assembled, 2u);
+  EXPECT_EQ(a.counters().parts_received, 8u);
+}
+
+TEST(FrameAssembler, DropsIncompleteSetsAfterTheTimeoutAndCountsThem) {
+  AssemblerParams p = WithOdometry();
+  p.timeout_ns = 1000;
+  FrameAssembler a(p);
+  a.addColour(100, kImage);  // never completed
+  AddAll(a, 600, 1.0);
+  EXPECT_TRUE(a.takeReady().empty());  // 500 ns behind the newest: still waiting
+  AddAll(a, 1200, 2.0);
+  const auto frames = a.takeReady();  // 1100 ns behind: dropped; 600 and 1200 go
+  ASSERT_EQ(frames.size(), 2u);
+  EXPECT_EQ(frames[0].t_ns, 600);
+  EXPECT_EQ(a.counters().dropped_incomplete, 1u);
+}
+
+TEST(FrameAssembler, BoundsThePendingSetsByDroppingTheOldest) {
+  AssemblerParams p;
+  p.max_pending = 3;
+  FrameAssembler a(p);
+  for (int64_t t = 1; t <= 5; ++t) a.addColour(t, kImage);  // five incomplete stamps, room for three
+  EXPECT_EQ(a.counters().dropped_queue_full, 2u);
+  a.addColour(0, kImage);  // older than everything waiting while full: dropped at once
+  EXPECT_EQ(a.counters().dropped_queue_full, 3u);
+  for (int64_t t = 3; t <= 5; ++t) a.addDepth(t, kDepth), a.addMask(t, kMask);
+  EXPECT_EQ(a.takeReady().size(), 3u);
+}
+
+TEST(FrameAssembler, RejectsStampsGoingBackwardsAndBadOdometry) {
+  FrameAssembler a(WithOdometry());
+  AddAll(a, 500, 0.0);
+  ASSERT_EQ(a.takeReady().size(), 1u);
+  a.addColour(400, kImage);
+  EXPECT_EQ(a.counters().rejected_invalid, 1u);
+  EXPECT_NE(a.counters().last_rejection.find("stamps went backwards"), std::string::npos);
+  StampedPose nan_pose = PoseAt(std::nan(""));
+  a.addOdometry(600, nan_pose);
+  EXPECT_EQ(a.counters().rejected_invalid, 2u);
+  EXPECT_NE(a.counters().last_rejection.find("not finite"), std::string::npos);
+  EXPECT_THROW(FrameAssembler(AssemblerParams{true, false, 0, 8}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace dslam

@@ -1,0 +1,349 @@
+// dslam serve and dslam publish as separate processes on this host (shared memory / loopback), each
+// test on its own DDS domain, with an in-test participant listening to (or writing) the topics.
+#include <gtest/gtest.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+
+#include "app/render_scene_command.h"
+#include "data/image_dataset.h"
+#include "dslam_msgsPubSubTypes.h"
+#include "nav_msgs_OdometryPubSubTypes.h"
+#include "plugin/dds_session.h"
+#include "plugin/frame_assembler.h"
+#include "plugin/image_message.h"
+#include "plugin/topics.h"
+#include "plugin/vehicle_pipeline.h"
+#include "sensor_msgs_ImagePubSubTypes.h"
+#include "support/no_display.h"
+#include "support/temp_paths.h"
+
+extern char** environ;
+
+namespace dslam {
+namespace {
+namespace fs = std::filesystem;
+namespace dds = eprosima::fastdds::dds;
+using namespace std::chrono_literals;
+
+const std::string kProfiles = std::string(DSLAM_SOURCE_DIR) + "/config/dds_profiles.xml";
+
+// A domain id of its own for each test of each run.
+int Domain(int test) { return 100 + (static_cast<int>(::getpid()) * 7 + test) % 100; }
+
+// A rendered city dataset, made once per (frames, seed).
+std::string CityDataset(int frames, uint64_t seed) {
+  const std::string dir = test::TempPath("dds_city_" + std::to_string(frames) + "_" + std::to_string(seed));
+  if (fs::exists(dir + "/odometry.txt")) return dir;
+  test::ScopedNoDisplay no_display;
+  RenderSceneOptions render;
+  render.scenario = "city", render.frames = frames, render.seed = seed, render.out_dir = dir, render.quiet = true;
+  std::ostringstream out, err;
+  if (RunRenderSceneCommand(render, out, err) != 0) throw std::runtime_error(err.str());
+  return dir;
+}
+
+class Process {
+ public:
+  Process(const std::vector<std::string>& args, const std::string& log) {
+    std::vector<char*> argv;
+    std::vector<std::string> all = {DSLAM_BINARY};
+    all.insert(all.end(), args.begin(), args.end());
+    for (auto& a : all) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&actions, 1, 2);
+    if (posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), environ) != 0) pid_ = -1;
+    posix_spawn_file_actions_destroy(&actions);
+  }
+  ~Process() {
+    if (pid_ > 0) kill(pid_, SIGKILL), waitpid(pid_, nullptr, 0);
+  }
+  void signal(int sig) { kill(pid_, sig); }
+  bool running() { return pid_ > 0 && waitpid(pid_, &status_, WNOHANG) == 0; }
+  // Exit status, or -1 when it did not exit in time (then it is killed).
+  int wait(std::chrono::seconds timeout) {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < end) {
+      if (waitpid(pid_, &status_, WNOHANG) == pid_) {
+        pid_ = -1;
+        return WIFEXITED(status_) ? WEXITSTATUS(status_) : -1;
+      }
+      std::this_thread::sleep_for(50ms);
+    }
+    return -1;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  int status_ = 0;
+};
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Listens to one vehicle's outputs.
+class Listener {
+ public:
+  Listener(int domain, const std::string& vehicle)
+      : session_(domain, kProfiles), odometry_(this), objects_(this), status_(this) {
+    const VehicleTopics t = TopicsFor(vehicle);
+    readers_ = {
+        session_.reader(t.camera_odometry, new nav_msgs::msg::OdometryPubSubType(), "estimate_reader", &odometry_),
+        session_.reader(t.object_motions, new dslam_msgs::msg::ObjectMotionArrayPubSubType(), "estimate_reader",
+                        &objects_),
+        session_.reader(t.status, new dslam_msgs::msg::StatusPubSubType(), "estimate_reader", &status_)};
+    // Estimates are not kept for late joiners: wait until serve's writers are matched (discovery).
+    for (int i = 0; i < 200 && !matched(); ++i) std::this_thread::sleep_for(50ms);
+  }
+  bool matched() {
+    for (dds::DataReader* r : readers_) {
+      dds::SubscriptionMatchedStatus status;
+      r->get_subscription_matched_status(status);
+      if (status.current_count == 0) return false;
+    }
+    return true;
+  }
+  std::string summary() {
+    std::lock_guard<std::mutex> lock(mutex);
+    std::string s = std::to_string(poses_by_stamp.size()) + " poses received";
+    if (!statuses.empty()) {
+      const auto& st = statuses.back();
+      s += "; serve: " + std::to_string(st.frames_received()) + " samples, " + std::to_string(st.frames_assembled()) +
+           " assembled, " + std::to_string(st.dropped_incomplete()) + " incomplete, " +
+           std::to_string(st.dropped_queue_full()) + " queue-full, " + std::to_string(st.rejected_invalid()) +
+           " rejected (" + st.last_rejection() + ")";
+    }
+    return s;
+  }
+  bool waitFor(size_t poses, std::chrono::seconds timeout) {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < end) {
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (poses_by_stamp.size() >= poses) return true;
+      }
+      std::this_thread::sleep_for(50ms);
+    }
+    return false;
+  }
+
+  std::mutex mutex;
+  std::map<int64_t, SE3> poses_by_stamp;
+  std::map<int64_t, dslam_msgs::msg::ObjectMotionArray> objects_by_stamp;
+  std::vector<dslam_msgs::msg::Status> statuses;
+
+ private:
+  template <typename Msg, typename F>
+  struct TypedListener : dds::DataReaderListener {
+    explicit TypedListener(Listener* l) : owner(l) {}
+    void on_data_available(dds::DataReader* reader) override {
+      Msg msg;
+      dds::SampleInfo info;
+      while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK)
+        if (info.valid_data) F()(owner, msg);
+    }
+    Listener* owner;
+  };
+  struct OnOdometry {
+    void operator()(Listener* l, const nav_msgs::msg::Odometry& m) {
+      std::string error;
+      const auto pose = DecodeOdometry(m, Vec6::Constant(1.0), &error);
+      std::lock_guard<std::mutex> lock(l->mutex);
+      l->poses_by_stamp[StampToNs(m.header().stamp())] = pose->T_odom_camera;
+    }
+  };
+  struct OnObjects {
+    void operator()(Listener* l, const dslam_msgs::msg::ObjectMotionArray& m) {
+      std::lock_guard<std::mutex> lock(l->mutex);
+      l->objects_by_stamp[StampToNs(m.header().stamp())] = m;
+    }
+  };
+  struct OnStatus {
+    void operator()(Listener* l, const dslam_msgs::msg::Status& m) {
+      std::lock_guard<std::mutex> lock(l->mutex);
+      l->statuses.push_back(m);
+    }
+  };
+  DdsSession session_;
+  std::vector<dds::DataReader*> readers_;
+  TypedListener<nav_msgs::msg::Odometry, OnOdometry> odometry_;
+  TypedListener<dslam_msgs::msg::ObjectMotionArray, OnObjects> objects_;
+  TypedListener<dslam_msgs::msg::Status, OnStatus> status_;
+};
+
+// What serve must compute: the dataset's frames through the same message round trip and assembly,
+// then the online pipeline (as `dslam run` computes ours).
+std::vector<FrameEstimate> Reference(const std::string& dir) {
+  RunConfig config;
+  config.backend.default_mode = MotionMode::kSmoothed;
+  config.backend.schedule = {ScheduleKind::kSlidingWindow, 10};
+  const ImageDataset data(dir, config.dataset);
+  PinholeCamera camera = data.camera();
+  VehiclePipeline pipeline(config, camera, data.frameRateHz());
+  AssemblerParams params;
+  params.expect_odometry = true;
+  FrameAssembler assembler(params);
+  SE3 T_odom_camera;
+  std::vector<FrameEstimate> out;
+  std::string error;
+  for (int k = 0; k < data.size(); ++k) {
+    const ImageFrame f = data.read(k);
+    Vec6 sigma = Vec6::Constant(0.01);
+    if (f.odometry) T_odom_camera = T_odom_camera * f.odometry->T_prev_curr, sigma = f.odometry->sigma;
+    assembler.addColour(f.t_ns, DecodeImage(EncodeImage(f.image, ImageRole::kColour, f.t_ns, "c"), ImageRole::kColour).image);
+    assembler.addDepth(f.t_ns, DecodeImage(EncodeImage(f.depth_m, ImageRole::kDepth, f.t_ns, "c"), ImageRole::kDepth).image);
+    cv::Mat ids;
+    f.instance_ids.convertTo(ids, CV_16U);
+    assembler.addMask(f.t_ns, DecodeImage(EncodeImage(ids, ImageRole::kMask, f.t_ns, "c"), ImageRole::kMask).image);
+    assembler.addOdometry(f.t_ns, *DecodeOdometry(EncodeOdometry(T_odom_camera, f.t_ns, "o", "c", sigma), Vec6::Constant(0.01), &error));
+    for (const ImageFrame& ready : assembler.takeReady()) out.push_back(pipeline.process(ready));
+  }
+  return out;
+}
+
+void ExpectSameEstimates(const std::vector<FrameEstimate>& reference, Listener& listener) {
+  std::lock_guard<std::mutex> lock(listener.mutex);
+  ASSERT_EQ(listener.poses_by_stamp.size(), reference.size());
+  for (const FrameEstimate& e : reference) {
+    const SE3& received = listener.poses_by_stamp.at(e.t_ns);
+    EXPECT_LT((received.translation() - e.T_world_camera.translation()).norm(), 1e-9) << e.t_ns;
+    EXPECT_LT(received.rotation().angularDistance(e.T_world_camera.rotation()), 1e-9) << e.t_ns;
+    const auto& objects = listener.objects_by_stamp.at(e.t_ns).objects();
+    ASSERT_EQ(objects.size(), e.object_motions.size()) << e.t_ns;
+    for (size_t i = 0; i < objects.size(); ++i) {
+      EXPECT_EQ(objects[i].object_id(), e.object_motions[i].object_id);
+      EXPECT_NEAR(objects[i].h_world().position().x(), e.object_motions[i].H_world.translation().x(), 1e-9);
+      EXPECT_NEAR(objects[i].h_world().position().z(), e.object_motions[i].H_world.translation().z(), 1e-9);
+      EXPECT_NEAR(objects[i].speed_mps(), e.object_motions[i].speed_mps, 1e-9);
+      EXPECT_EQ(objects[i].is_dynamic(), e.object_motions[i].is_dynamic);
+    }
+  }
+}
+
+std::vector<std::string> ServeArgs(int domain, const std::string& dataset, const std::string& out) {
+  return {"serve", "--domain", std::to_string(domain), "--profiles", kProfiles, "--calib", dataset + "/calib.txt",
+          "--out", out, "--status-every", "0", "--max-pending", "400", "--timeout-ms", "5000"};
+}
+
+std::vector<std::string> PublishArgs(int domain, const std::string& dataset, const std::string& rate) {
+  return {"publish", "--domain", std::to_string(domain), "--profiles", kProfiles, "--dataset", dataset, "--rate", rate};
+}
+
+TEST(ServeLoopback, EstimatesEqualTheRecordedRunAndSigtermWritesTheResults) {
+  const std::string dataset = CityDataset(100, 1);
+  const int domain = Domain(1);
+  const std::string out = test::TempPath("serve_out");
+  Process serve(ServeArgs(domain, dataset, out), test::TempPath("serve.log"));
+  Listener listener(domain, "");
+  Process publish(PublishArgs(domain, dataset, "20"), test::TempPath("publish.log"));
+  ASSERT_EQ(publish.wait(120s), 0) << ReadFile(test::TempPath("publish.log"));
+  const std::vector<FrameEstimate> reference = Reference(dataset);
+  ASSERT_TRUE(listener.waitFor(reference.size(), 240s)) << listener.summary();
+  ExpectSameEstimates(reference, listener);
+
+  serve.signal(SIGTERM);
+  ASSERT_EQ(serve.wait(60s), 0) << ReadFile(test::TempPath("serve.log"));
+  std::ifstream tum(out + "/default/camera_ours.tum");
+  int lines = 0;
+  for (std::string line; std::getline(tum, line);) lines += !line.empty() && line[0] != '#';
+  EXPECT_EQ(lines, 100);
+  EXPECT_TRUE(fs::exists(out + "/default/camera_ours_online.tum"));
+  EXPECT_NE(ReadFile(test::TempPath("serve.log")).find("100 frames, results written to"), std::string::npos);
+}
+
+TEST(ServeLoopback, BadSamplesAreRejectedAndCountedAndServeKeepsRunning) {
+  const std::string dataset = CityDataset(12, 1);
+  const int domain = Domain(2);
+  Process serve(ServeArgs(domain, dataset, test::TempPath("serve_bad_out")), test::TempPath("serve_bad.log"));
+  Listener listener(domain, "");
+  {
+    DdsSession session(domain, kProfiles);
+    const VehicleTopics t = TopicsFor("");
+    auto* colour = session.writer(t.colour, new sensor_msgs::msg::ImagePubSubType(), "sensor_writer");
+    auto* mask = session.writer(t.mask, new sensor_msgs::msg::ImagePubSubType(), "sensor_writer");
+    auto* odometry = session.writer(t.odometry, new nav_msgs::msg::OdometryPubSubType(), "sensor_writer");
+    for (int i = 0; i < 100; ++i) {  // until serve's readers are matched
+      dds::PublicationMatchedStatus matched;
+      odometry->get_publication_matched_status(matched);
+      if (matched.current_count > 0) break;
+      std::this_thread::sleep_for(50ms);
+    }
+    const cv::Mat image(375, 1242, CV_8UC3, cv::Scalar(50));
+    auto short_data = EncodeImage(image, ImageRole::kColour, 1'000'000'000, "c");
+    short_data.data().resize(1000);
+    colour->write(&short_data);
+    auto unknown = EncodeImage(image, ImageRole::kColour, 1'100'000'000, "c");
+    unknown.encoding("yuv422");
+    colour->write(&unknown);
+    auto not_a_mask = EncodeImage(image, ImageRole::kColour, 1'200'000'000, "c");  // bgr8 on the mask topic
+    mask->write(&not_a_mask);
+    auto nan_odometry = EncodeOdometry(SE3(), 1'300'000'000, "o", "c");
+    nan_odometry.pose().pose().position().y(std::nan(""));
+    odometry->write(&nan_odometry);
+    std::this_thread::sleep_for(1s);
+  }
+  // Then a good replay: serve is still there and processes it.
+  Process publish(PublishArgs(domain, dataset, "10"), test::TempPath("publish_bad.log"));
+  ASSERT_EQ(publish.wait(60s), 0);
+  ASSERT_TRUE(listener.waitFor(12, 120s)) << listener.summary();
+  EXPECT_TRUE(serve.running());
+  std::lock_guard<std::mutex> lock(listener.mutex);
+  ASSERT_FALSE(listener.statuses.empty());
+  const auto& last = listener.statuses.back();
+  EXPECT_GE(last.rejected_invalid(), 4u);
+  EXPECT_EQ(last.frames_processed(), 12u);
+}
+
+TEST(ServeLoopback, APublisherRestartedMidSequenceIsFollowedAndTwoVehiclesStaySeparate) {
+  const std::string city_a = CityDataset(16, 1), city_b = CityDataset(16, 2);
+  const int domain = Domain(3);
+  auto args = ServeArgs(domain, city_a, test::TempPath("serve_two_out"));
+  for (const char* v : {"--vehicle", "a", "--vehicle", "b"}) args.push_back(v);
+  Process serve(args, test::TempPath("serve_two.log"));
+  Listener a(domain, "a"), b(domain, "b");
+  auto publish_args = [&](const std::string& dataset, const std::string& vehicle, int start, int frames) {
+    auto p = PublishArgs(domain, dataset, "10");
+    for (const std::string& s : {std::string("--vehicle"), vehicle, std::string("--start-frame"), std::to_string(start),
+                                 std::string("--frames"), std::to_string(frames)})
+      p.push_back(s);
+    return p;
+  };
+  {
+    // Vehicle a's publisher stops after 6 frames (as if killed) and a new one resumes at frame 6.
+    Process first(publish_args(city_a, "a", 0, 6), test::TempPath("pub_a1.log"));
+    Process other(publish_args(city_b, "b", 0, 16), test::TempPath("pub_b.log"));
+    ASSERT_EQ(first.wait(60s), 0);
+    Process second(publish_args(city_a, "a", 6, 10), test::TempPath("pub_a2.log"));
+    ASSERT_EQ(second.wait(60s), 0);
+    ASSERT_EQ(other.wait(60s), 0);
+  }
+  ASSERT_TRUE(a.waitFor(16, 60s)) << a.summary();
+  ASSERT_TRUE(b.waitFor(16, 60s)) << b.summary();
+  ExpectSameEstimates(Reference(city_a), a);
+  ExpectSameEstimates(Reference(city_b), b);
+  serve.signal(SIGINT);
+  EXPECT_EQ(serve.wait(60s), 0);
+  EXPECT_TRUE(fs::exists(test::TempPath("serve_two_out") + "/a/camera_ours.tum"));
+  EXPECT_TRUE(fs::exists(test::TempPath("serve_two_out") + "/b/camera_ours.tum"));
+}
+
+}  // namespace
+}  // namespace dslam

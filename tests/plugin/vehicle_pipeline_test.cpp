@@ -1,0 +1,56 @@
+// The online pipeline that `dslam serve` runs computes what `dslam run` records for ours, frame by frame.
+#include "plugin/vehicle_pipeline.h"
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "app/render_scene_command.h"
+#include "app/run_command.h"
+#include "pipeline/image_run.h"
+#include "pipeline/run_sequence.h"
+#include "support/no_display.h"
+#include "support/temp_paths.h"
+
+namespace dslam {
+namespace {
+
+TEST(VehiclePipeline, MatchesTheOnlineEstimatesOfDslamRun) {
+  const std::string dir = test::TempPath("pipeline_city");
+  {
+    test::ScopedNoDisplay no_display;
+    RenderSceneOptions render;
+    render.scenario = "city", render.frames = 15, render.out_dir = dir, render.quiet = true;
+    std::ostringstream out, err;
+    ASSERT_EQ(RunRenderSceneCommand(render, out, err), 0) << err.str();
+  }
+  RunConfig config;
+  config.backend.default_mode = ParseMotionMode(kRunDefaultMode);
+  config.backend.schedule = ParseSchedule(RunCommandOptions().schedule.value());
+  const ImageDataset data(dir, config.dataset);
+  RunSequenceOptions run;
+  run.methods = {Method::kOurs};
+  run.evaluate = false;
+  const auto outcomes = RunSequence(RunImageFrontend(data, config, 0, nullptr, nullptr), config, run);
+  const std::vector<FrameEstimate>& recorded = outcomes.at(Method::kOurs).result.online;
+  ASSERT_EQ(recorded.size(), 15u);
+
+  VehiclePipeline pipeline(config, data.camera(), data.frameRateHz());
+  for (int k = 0; k < data.size(); ++k) {
+    const FrameEstimate e = pipeline.process(data.read(k));
+    EXPECT_EQ(e.t_ns, recorded[k].t_ns);
+    EXPECT_LT((e.T_world_camera.translation() - recorded[k].T_world_camera.translation()).norm(), 1e-12) << k;
+    ASSERT_EQ(e.object_motions.size(), recorded[k].object_motions.size()) << k;
+    for (size_t i = 0; i < e.object_motions.size(); ++i)
+      EXPECT_NEAR(e.object_motions[i].speed_mps, recorded[k].object_motions[i].speed_mps, 1e-12);
+  }
+  EXPECT_EQ(pipeline.framesProcessed(), 15);
+  ImageFrame bad = data.read(0);
+  bad.frame_index = 99;
+  bad.depth_m = cv::Mat(10, 10, CV_32FC1);
+  EXPECT_THROW(pipeline.process(bad), std::invalid_argument);
+  EXPECT_EQ(pipeline.framesProcessed(), 15);
+}
+
+}  // namespace
+}  // namespace dslam
