@@ -1,10 +1,7 @@
 // dslam serve and dslam publish as separate processes on this host (shared memory / loopback), each
 // test on its own DDS domain, with an in-test participant listening to (or writing) the topics.
 #include <gtest/gtest.h>
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -26,10 +23,9 @@
 #include "plugin/topics.h"
 #include "plugin/vehicle_pipeline.h"
 #include "sensor_msgs_ImagePubSubTypes.h"
+#include "support/child_process.h"
 #include "support/no_display.h"
 #include "support/temp_paths.h"
-
-extern char** environ;
 
 namespace dslam {
 namespace {
@@ -52,51 +48,6 @@ std::string CityDataset(int frames, uint64_t seed) {
   std::ostringstream out, err;
   if (RunRenderSceneCommand(render, out, err) != 0) throw std::runtime_error(err.str());
   return dir;
-}
-
-class Process {
- public:
-  Process(const std::vector<std::string>& args, const std::string& log) {
-    std::vector<char*> argv;
-    std::vector<std::string> all = {DSLAM_BINARY};
-    all.insert(all.end(), args.begin(), args.end());
-    for (auto& a : all) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&actions, 1, 2);
-    if (posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), environ) != 0) pid_ = -1;
-    posix_spawn_file_actions_destroy(&actions);
-  }
-  ~Process() {
-    if (pid_ > 0) kill(pid_, SIGKILL), waitpid(pid_, nullptr, 0);
-  }
-  void signal(int sig) { kill(pid_, sig); }
-  bool running() { return pid_ > 0 && waitpid(pid_, &status_, WNOHANG) == 0; }
-  // Exit status, or -1 when it did not exit in time (then it is killed).
-  int wait(std::chrono::seconds timeout) {
-    const auto end = std::chrono::steady_clock::now() + timeout;
-    while (std::chrono::steady_clock::now() < end) {
-      if (waitpid(pid_, &status_, WNOHANG) == pid_) {
-        pid_ = -1;
-        return WIFEXITED(status_) ? WEXITSTATUS(status_) : -1;
-      }
-      std::this_thread::sleep_for(50ms);
-    }
-    return -1;
-  }
-
- private:
-  pid_t pid_ = -1;
-  int status_ = 0;
-};
-
-std::string ReadFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 // Listens to one vehicle's outputs.
@@ -251,28 +202,28 @@ TEST(ServeLoopback, EstimatesEqualTheRecordedRunAndSigtermWritesTheResults) {
   const std::string dataset = CityDataset(100, 1);
   const int domain = Domain(1);
   const std::string out = test::TempPath("serve_out");
-  Process serve(ServeArgs(domain, dataset, out), test::TempPath("serve.log"));
+  test::Process serve(ServeArgs(domain, dataset, out), test::TempPath("serve.log"));
   Listener listener(domain, "");
-  Process publish(PublishArgs(domain, dataset, "20"), test::TempPath("publish.log"));
-  ASSERT_EQ(publish.wait(120s), 0) << ReadFile(test::TempPath("publish.log"));
+  test::Process publish(PublishArgs(domain, dataset, "20"), test::TempPath("publish.log"));
+  ASSERT_EQ(publish.wait(120s), 0) << test::ReadFile(test::TempPath("publish.log"));
   const std::vector<FrameEstimate> reference = Reference(dataset);
   ASSERT_TRUE(listener.waitFor(reference.size(), 240s)) << listener.summary();
   ExpectSameEstimates(reference, listener);
 
   serve.signal(SIGTERM);
-  ASSERT_EQ(serve.wait(60s), 0) << ReadFile(test::TempPath("serve.log"));
+  ASSERT_EQ(serve.wait(60s), 0) << test::ReadFile(test::TempPath("serve.log"));
   std::ifstream tum(out + "/default/camera_ours.tum");
   int lines = 0;
   for (std::string line; std::getline(tum, line);) lines += !line.empty() && line[0] != '#';
   EXPECT_EQ(lines, 100);
   EXPECT_TRUE(fs::exists(out + "/default/camera_ours_online.tum"));
-  EXPECT_NE(ReadFile(test::TempPath("serve.log")).find("100 frames, results written to"), std::string::npos);
+  EXPECT_NE(test::ReadFile(test::TempPath("serve.log")).find("100 frames, results written to"), std::string::npos);
 }
 
 TEST(ServeLoopback, BadSamplesAreRejectedAndCountedAndServeKeepsRunning) {
   const std::string dataset = CityDataset(12, 1);
   const int domain = Domain(2);
-  Process serve(ServeArgs(domain, dataset, test::TempPath("serve_bad_out")), test::TempPath("serve_bad.log"));
+  test::Process serve(ServeArgs(domain, dataset, test::TempPath("serve_bad_out")), test::TempPath("serve_bad.log"));
   Listener listener(domain, "");
   {
     DdsSession session(domain, kProfiles);
@@ -301,7 +252,7 @@ TEST(ServeLoopback, BadSamplesAreRejectedAndCountedAndServeKeepsRunning) {
     std::this_thread::sleep_for(1s);
   }
   // Then a good replay: serve is still there and processes it.
-  Process publish(PublishArgs(domain, dataset, "10"), test::TempPath("publish_bad.log"));
+  test::Process publish(PublishArgs(domain, dataset, "10"), test::TempPath("publish_bad.log"));
   ASSERT_EQ(publish.wait(60s), 0);
   ASSERT_TRUE(listener.waitFor(12, 120s)) << listener.summary();
   EXPECT_TRUE(serve.running());
@@ -317,7 +268,7 @@ TEST(ServeLoopback, APublisherRestartedMidSequenceIsFollowedAndTwoVehiclesStaySe
   const int domain = Domain(3);
   auto args = ServeArgs(domain, city_a, test::TempPath("serve_two_out"));
   for (const char* v : {"--vehicle", "a", "--vehicle", "b"}) args.push_back(v);
-  Process serve(args, test::TempPath("serve_two.log"));
+  test::Process serve(args, test::TempPath("serve_two.log"));
   Listener a(domain, "a"), b(domain, "b");
   auto publish_args = [&](const std::string& dataset, const std::string& vehicle, int start, int frames) {
     auto p = PublishArgs(domain, dataset, "10");
@@ -328,10 +279,10 @@ TEST(ServeLoopback, APublisherRestartedMidSequenceIsFollowedAndTwoVehiclesStaySe
   };
   {
     // Vehicle a's publisher stops after 6 frames (as if killed) and a new one resumes at frame 6.
-    Process first(publish_args(city_a, "a", 0, 6), test::TempPath("pub_a1.log"));
-    Process other(publish_args(city_b, "b", 0, 16), test::TempPath("pub_b.log"));
+    test::Process first(publish_args(city_a, "a", 0, 6), test::TempPath("pub_a1.log"));
+    test::Process other(publish_args(city_b, "b", 0, 16), test::TempPath("pub_b.log"));
     ASSERT_EQ(first.wait(60s), 0);
-    Process second(publish_args(city_a, "a", 6, 10), test::TempPath("pub_a2.log"));
+    test::Process second(publish_args(city_a, "a", 6, 10), test::TempPath("pub_a2.log"));
     ASSERT_EQ(second.wait(60s), 0);
     ASSERT_EQ(other.wait(60s), 0);
   }
