@@ -16,6 +16,7 @@
 #include <opencv2/video/tracking.hpp>
 
 #include "app/render_scene_command.h"
+#include "bench/percentile.h"
 #include "backend/methods.h"
 #include "data/image_dataset.h"
 #include "frontend/image_frontend.h"
@@ -25,11 +26,7 @@
 namespace {
 using Clock = std::chrono::steady_clock;
 
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
-}
+using dslam::bench::Percentile;
 }  // namespace
 
 int main(int argc, char** argv) {

@@ -11,6 +11,7 @@
 
 #include "app/render_scene_command.h"
 #include "support/no_display.h"
+#include "support/rendered_city.h"
 #include "support/temp_paths.h"
 
 namespace dslam {
@@ -19,15 +20,7 @@ namespace fs = std::filesystem;
 
 // 25 frames of the built-in city, rendered once for the tests of this file.
 const std::string& CityDataset() {
-  static const std::string dir = [] {
-    const std::string d = test::TempPath("run_city");
-    test::ScopedNoDisplay no_display;
-    RenderSceneOptions render;
-    render.scenario = "city", render.frames = 25, render.out_dir = d, render.quiet = true;
-    std::ostringstream out, err;
-    if (RunRenderSceneCommand(render, out, err) != 0) throw std::runtime_error(err.str());
-    return d;
-  }();
+  static const std::string dir = test::RenderedCity("run_city", 25);
   return dir;
 }
 

@@ -7,9 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "app/render_scene_command.h"
 #include "support/child_process.h"
-#include "support/no_display.h"
+#include "support/rendered_city.h"
 #include "support/temp_paths.h"
 
 namespace dslam {
@@ -23,14 +22,7 @@ TEST(DdsSecurity, OnlyAuthenticatedParticipantsCanInjectFrames) {
   ASSERT_EQ(std::system((script + " " + certs + " serve publisher > /dev/null").c_str()), 0);
   ASSERT_EQ(std::system((script + " " + intruder + " publisher > /dev/null").c_str()), 0);  // another CA
 
-  const std::string dataset = test::TempPath("dds_security_city");
-  {
-    test::ScopedNoDisplay no_display;
-    RenderSceneOptions render;
-    render.scenario = "city", render.frames = 5, render.out_dir = dataset, render.quiet = true;
-    std::ostringstream out, err;
-    ASSERT_EQ(RunRenderSceneCommand(render, out, err), 0) << err.str();
-  }
+  const std::string dataset = test::RenderedCity("dds_security_city", 5);
   const std::string domain = std::to_string(200 + ::getpid() % 30);
   const std::string out = test::TempPath("dds_security_out");
   test::Process serve({"serve", "--domain", domain, "--profiles", certs + "/serve_profiles.xml", "--calib",

@@ -5,25 +5,17 @@
 
 #include <sstream>
 
-#include "app/render_scene_command.h"
 #include "app/run_command.h"
 #include "pipeline/image_run.h"
 #include "pipeline/run_sequence.h"
-#include "support/no_display.h"
+#include "support/rendered_city.h"
 #include "support/temp_paths.h"
 
 namespace dslam {
 namespace {
 
 TEST(VehiclePipeline, MatchesTheOnlineEstimatesOfDslamRun) {
-  const std::string dir = test::TempPath("pipeline_city");
-  {
-    test::ScopedNoDisplay no_display;
-    RenderSceneOptions render;
-    render.scenario = "city", render.frames = 15, render.out_dir = dir, render.quiet = true;
-    std::ostringstream out, err;
-    ASSERT_EQ(RunRenderSceneCommand(render, out, err), 0) << err.str();
-  }
+  const std::string dir = test::RenderedCity("pipeline_city", 15);
   RunConfig config;
   config.backend.default_mode = ParseMotionMode(kRunDefaultMode);
   config.backend.schedule = ParseSchedule(RunCommandOptions().schedule.value());
