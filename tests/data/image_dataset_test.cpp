@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "data/odometry_file.h"
 #include "support/temp_paths.h"
@@ -137,6 +138,51 @@ TEST(ImageDataset, KittiRawTakesDepthFromTheLidarAndNamesATruncatedScan) {
   EXPECT_FLOAT_EQ(f.depth_m.at<float>(26, 34), 8.0f);  // spread by lidar_fill_radius_px = 2
   EXPECT_EQ(cv::countNonZero(f.depth_m), 25);
   EXPECT_NE(ErrorOf([&] { data.read(1); }).find("not a whole number of 16-byte"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace dslam
+
+namespace dslam {
+namespace {
+
+TEST(ImageDataset, KittiTrackingLayoutTakesDepthFromTheStereoPairAndMasksFromTheLabels) {
+  const std::string dir = test::TempDir("kitti_tracking_layout");
+  for (const char* sub : {"image_02/0007", "image_03/0007", "calib", "label_02"}) fs::create_directories(dir + "/" + sub);
+  constexpr int kWide = 320, kHigh = 120;
+  const double fx = 200.0, baseline = 0.5, disparity = 10.0;  // every pixel 10 m away
+  {
+    std::ofstream calib(dir + "/calib/0007.txt");
+    for (int i = 0; i < 4; ++i)
+      calib << 'P' << i << ": " << fx << " 0 160 " << (i == 3 ? -fx * baseline : 0.0) << " 0 " << fx
+            << " 60 0 0 0 1 0\n";
+    calib << "R0_rect: 1 0 0 0 1 0 0 0 1\nTr_velo_to_cam: 0 -1 0 0 0 0 -1 0 1 0 0 0\n";
+  }
+  // A car (track 4) 10 m ahead: "frame track type truncated occluded alpha x1 y1 x2 y2 h w l X Y Z ry".
+  std::ofstream(dir + "/label_02/0007.txt") << "0 4 Car 0 0 0 100 40 220 90 1.5 1.6 3.9 0 1.0 10 0\n";
+  cv::Mat right(kHigh, kWide, CV_8UC1);
+  cv::randu(right, 0, 255);
+  cv::GaussianBlur(right, right, {3, 3}, 0.8);
+  cv::Mat left;
+  cv::warpAffine(right, left, cv::Matx23d(1, 0, disparity, 0, 1, 0), right.size(), cv::INTER_LINEAR,
+                 cv::BORDER_REFLECT);
+  cv::imwrite(dir + "/image_02/0007/000000.png", left);
+  cv::imwrite(dir + "/image_03/0007/000000.png", right);
+
+  const ImageDataset data(dir, ImageDatasetOptions{});
+  EXPECT_EQ(data.layout(), "kitti-tracking");
+  EXPECT_EQ(data.name(), "0007");
+  const ImageFrame f = data.read(0);
+  std::vector<float> z;
+  for (int v = 20; v < 100; ++v)
+    for (int u = 150; u < 300; ++u)
+      if (f.depth_m.at<float>(v, u) > 0.0f) z.push_back(f.depth_m.at<float>(v, u));
+  ASSERT_GT(z.size(), 5000u);
+  std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
+  EXPECT_NEAR(z[z.size() / 2], fx * baseline / disparity, 0.3);
+  // The mask is the projected box: the box centre (X 0, Y 1 - h/2, Z 10) is at (160, 60 + 200 * 0.25 / 10).
+  EXPECT_EQ(f.instance_ids.at<int32_t>(65, 160), 5);  // object id = track id + 1
+  EXPECT_EQ(f.instance_ids.at<int32_t>(10, 10), 0);
 }
 
 }  // namespace
