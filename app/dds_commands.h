@@ -16,7 +16,7 @@ struct ServeCommandOptions {
   std::string calib_path;               // KITTI-format calib.txt: the camera's intrinsics (P2, else P0)
   std::vector<std::string> vehicles;    // empty: one pipeline without namespace
   int domain_id = 0;
-  std::string profiles_file = "config/dds_profiles.xml";
+  std::string profiles_file = DSLAM_DEFAULT_DDS_PROFILES;
   std::string out_dir = "results/serve";
   bool no_odometry = false;             // do not wait for odometry with every frame
   double frame_rate_hz = 10.0;
@@ -31,6 +31,7 @@ struct ServeCommandOptions {
 int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::ostream& err);
 
 struct PublishCommandOptions {
+  PublishCommandOptions() { publish.profiles_file = DSLAM_DEFAULT_DDS_PROFILES; }
   std::string dataset_dir;
   std::string sequence;
   PublishOptions publish;
