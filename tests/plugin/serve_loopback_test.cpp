@@ -182,8 +182,19 @@ void ExpectSameEstimates(const std::vector<FrameEstimate>& reference, Listener& 
   }
 }
 
+// The shipped profiles with reliable sensor readers: on a loaded CI machine best-effort loses a sample
+// now and then, and these tests compare every frame.
+std::string ReliableProfiles() {
+  const std::string path = test::TempPath("reliable_profiles.xml");
+  std::string xml = test::ReadFile(kProfiles);
+  const std::string best_effort = "<kind>BEST_EFFORT</kind>";
+  for (size_t at; (at = xml.find(best_effort)) != std::string::npos;) xml.replace(at, best_effort.size(), "<kind>RELIABLE</kind>");
+  std::ofstream(path) << xml;
+  return path;
+}
+
 std::vector<std::string> ServeArgs(int domain, const std::string& dataset, const std::string& out) {
-  return {"serve", "--domain", std::to_string(domain), "--profiles", kProfiles, "--calib", dataset + "/calib.txt",
+  return {"serve", "--domain", std::to_string(domain), "--profiles", ReliableProfiles(), "--calib", dataset + "/calib.txt",
           "--out", out, "--status-every", "0", "--max-pending", "400", "--timeout-ms", "5000"};
 }
 
