@@ -1,7 +1,8 @@
 // End-to-end latency of the DDS participant: a 1242x375 frame (colour, depth, mask, odometry) published
 // to the receipt of its camera estimate, at 10 Hz (median and 99th percentile), and the highest frame rate
 // the participant sustains (every frame estimated, 99th percentile latency under 1.5 frame periods). Publisher, `serve` node and
-// listener run in this process, each with its own participant, over shared memory.
+// listener run in this process, each with its own participant, over shared memory (plugin/ holds all the
+// DDS code; this file only drives it).
 // Usage: bench_dds_latency [DATASET_DIR] [frames=40] [RATES=1,2,3,5,10]
 // (without a dataset it renders the city; needs Xvfb or a display)
 #include <algorithm>
@@ -10,39 +11,18 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
-#include <mutex>
 #include <sstream>
 #include <thread>
-
-#include <fastdds/dds/subscriber/SampleInfo.hpp>
 
 #include "app/render_scene_command.h"
 #include "bench/percentile.h"
 #include "data/image_dataset.h"
-#include "nav_msgs_OdometryPubSubTypes.h"
-#include "plugin/dds_session.h"
-#include "plugin/image_message.h"
+#include "plugin/estimate_listener.h"
+#include "plugin/sensor_publisher.h"
 #include "plugin/serve_node.h"
-#include "plugin/topics.h"
-#include "sensor_msgs_ImagePubSubTypes.h"
 
 namespace {
-namespace dds = eprosima::fastdds::dds;
 using Clock = std::chrono::steady_clock;
-
-struct Receipts : dds::DataReaderListener {
-  std::mutex mutex;
-  std::map<int64_t, Clock::time_point> at;
-  void on_data_available(dds::DataReader* reader) override {
-    nav_msgs::msg::Odometry msg;
-    dds::SampleInfo info;
-    while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK)
-      if (info.valid_data) {
-        std::lock_guard<std::mutex> lock(mutex);
-        at[dslam::StampToNs(msg.header().stamp())] = Clock::now();
-      }
-  }
-};
 
 struct RateResult {
   double median_ms = 0, p99_ms = 0, first_ms = 0, last_ms = 0;
@@ -63,33 +43,21 @@ RateResult RunAtRate(const dslam::ImageDataset& data, int frames, double rate_hz
   config.backend.default_mode = dslam::MotionMode::kSmoothed;
   config.backend.schedule = {dslam::ScheduleKind::kSlidingWindow, 10};
   dslam::ServeNode node(options, config);
-  dslam::DdsSession publisher(domain, profiles), listener(domain, profiles);
-  const auto topics = dslam::TopicsFor("");
-  auto* colour = publisher.writer(topics.colour, new sensor_msgs::msg::ImagePubSubType(), "sensor_writer");
-  auto* depth = publisher.writer(topics.depth, new sensor_msgs::msg::ImagePubSubType(), "sensor_writer");
-  auto* mask = publisher.writer(topics.mask, new sensor_msgs::msg::ImagePubSubType(), "sensor_writer");
-  auto* odometry = publisher.writer(topics.odometry, new nav_msgs::msg::OdometryPubSubType(), "sensor_writer");
-  Receipts receipts;
-  listener.reader(topics.camera_odometry, new nav_msgs::msg::OdometryPubSubType(), "estimate_reader", &receipts);
-  std::this_thread::sleep_for(std::chrono::seconds(2));  // discovery
+  dslam::SensorPublisher sensors(domain, profiles, "");
+  dslam::CameraEstimateListener listener(domain, profiles, "");
+  sensors.waitForReaders(10.0);
+  std::this_thread::sleep_for(std::chrono::seconds(1));  // the listener's discovery too
 
   std::map<int64_t, Clock::time_point> sent_at;
   dslam::SE3 pose;
   auto next = Clock::now();
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / rate_hz));
   for (int i = 0; i < frames; ++i) {
-    const dslam::ImageFrame f = data.read(i % data.size());
-    const int64_t t_ns = static_cast<int64_t>(i) * 100'000'000;
+    dslam::ImageFrame f = data.read(i % data.size());
+    f.t_ns = static_cast<int64_t>(i) * 100'000'000;
     if (f.odometry) pose = pose * f.odometry->T_prev_curr;
-    auto c = dslam::EncodeImage(f.image, dslam::ImageRole::kColour, t_ns, "camera");
-    auto d = dslam::EncodeImage(f.depth_m, dslam::ImageRole::kDepth, t_ns, "camera");
-    cv::Mat ids;
-    f.instance_ids.convertTo(ids, CV_16U);
-    auto m = dslam::EncodeImage(ids, dslam::ImageRole::kMask, t_ns, "camera");
-    auto o = dslam::EncodeOdometry(pose, t_ns, "odom", "camera", f.odometry ? f.odometry->sigma : dslam::Vec6::Constant(0.01));
-    sent_at[t_ns] = Clock::now();
-    colour->write(&c), depth->write(&d), mask->write(&m);
-    if (data.hasOdometry()) odometry->write(&o);
+    sent_at[f.t_ns] = Clock::now();
+    sensors.publish(f, pose, f.odometry ? f.odometry->sigma : dslam::Vec6::Constant(0.01), data.hasOdometry());
     next += period;
     std::this_thread::sleep_until(next);
   }
@@ -97,14 +65,10 @@ RateResult RunAtRate(const dslam::ImageDataset& data, int frames, double rate_hz
   RateResult r;
   r.sent = frames;
   std::vector<double> latencies;
-  {
-    // Released before the shutdown below: the node's last estimates still reach this listener.
-    std::lock_guard<std::mutex> lock(receipts.mutex);
-    for (const auto& [t, when] : receipts.at) {
-      const auto s = sent_at.find(t);
-      if (s == sent_at.end()) continue;
-      latencies.push_back(std::chrono::duration<double, std::milli>(when - s->second).count());
-    }
+  for (const auto& [t, when] : listener.receipts()) {
+    const auto s = sent_at.find(t);
+    if (s == sent_at.end()) continue;
+    latencies.push_back(std::chrono::duration<double, std::milli>(when - s->second).count());
   }
   r.received = static_cast<int>(latencies.size());
   r.median_ms = Percentile(latencies, 0.5);

@@ -255,8 +255,14 @@ ImageFrame ImageDataset::read(int k) const {
     frame.flow_to_next = cv::Mat(f.height, f.width, CV_32FC2);
     std::copy(f.uv.begin(), f.uv.end(), frame.flow_to_next.ptr<float>(0));
   }
-  if (const auto o = odometry_.find(k); o != odometry_.end() && k > 0) frame.odometry = o->second;
+  frame.odometry = odometryAt(k);
   return frame;
+}
+
+std::optional<OdometryMeasurement> ImageDataset::odometryAt(int k) const {
+  const auto o = odometry_.find(k);
+  if (o == odometry_.end() || k == 0) return std::nullopt;
+  return o->second;
 }
 
 }  // namespace dslam

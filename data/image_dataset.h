@@ -52,6 +52,9 @@ class ImageDataset {
   // Frame k (0-based): throws std::runtime_error naming the file that is missing, unreadable or of the
   // wrong size or pixel type.
   ImageFrame read(int k) const;
+  // The odometry increment into frame k (none for the first frame or without odometry.txt), without
+  // reading the frame's images.
+  std::optional<OdometryMeasurement> odometryAt(int k) const;
 
   // Ground truth when the folder has it (camera poses at least).
   const std::optional<KittiGroundTruthSequence>& groundTruth() const { return ground_truth_; }

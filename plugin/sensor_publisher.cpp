@@ -1,0 +1,70 @@
+#include "plugin/sensor_publisher.h"
+
+#include <chrono>
+#include <thread>
+
+#include "nav_msgs_OdometryPubSubTypes.h"
+#include "plugin/dds_session.h"
+#include "plugin/image_message.h"
+#include "plugin/topics.h"
+#include "sensor_msgs_ImagePubSubTypes.h"
+
+namespace dslam {
+namespace dds = eprosima::fastdds::dds;
+
+struct SensorPublisher::Impl {
+  DdsSession session;
+  dds::DataWriter *colour = nullptr, *depth = nullptr, *mask = nullptr, *odometry = nullptr;
+  Impl(int domain_id, const std::string& profiles) : session(domain_id, profiles) {}
+};
+
+SensorPublisher::SensorPublisher(int domain_id, const std::string& profiles_file, const std::string& vehicle)
+    : impl_(std::make_unique<Impl>(domain_id, profiles_file)) {
+  const VehicleTopics topics = TopicsFor(vehicle);
+  auto& s = impl_->session;
+  impl_->colour = s.writer(topics.colour, new sensor_msgs::msg::ImagePubSubType(), "sensor_writer");
+  impl_->depth = s.writer(topics.depth, new sensor_msgs::msg::ImagePubSubType(), "sensor_writer");
+  impl_->mask = s.writer(topics.mask, new sensor_msgs::msg::ImagePubSubType(), "sensor_writer");
+  impl_->odometry = s.writer(topics.odometry, new nav_msgs::msg::OdometryPubSubType(), "sensor_writer");
+}
+
+SensorPublisher::~SensorPublisher() = default;
+
+bool SensorPublisher::waitForReaders(double timeout_s, const std::atomic<bool>* stop) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  for (;;) {
+    bool all = true;
+    for (dds::DataWriter* w : {impl_->colour, impl_->depth, impl_->mask, impl_->odometry}) {
+      dds::PublicationMatchedStatus matched;
+      w->get_publication_matched_status(matched);
+      all = all && matched.current_count > 0;
+    }
+    if (all) return true;
+    if (std::chrono::steady_clock::now() > deadline || (stop && *stop)) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+}
+
+void SensorPublisher::publish(const ImageFrame& frame, const SE3& T_odom_camera, const Vec6& sigma, bool with_odometry) {
+  sensor_msgs::msg::Image colour = EncodeImage(frame.image, ImageRole::kColour, frame.t_ns, "camera");
+  sensor_msgs::msg::Image depth = EncodeImage(frame.depth_m, ImageRole::kDepth, frame.t_ns, "camera");
+  impl_->colour->write(&colour);
+  impl_->depth->write(&depth);
+  if (!frame.instance_ids.empty()) {
+    cv::Mat ids;
+    frame.instance_ids.convertTo(ids, CV_16U);
+    sensor_msgs::msg::Image mask = EncodeImage(ids, ImageRole::kMask, frame.t_ns, "camera");
+    impl_->mask->write(&mask);
+  }
+  if (with_odometry) {
+    nav_msgs::msg::Odometry odometry = EncodeOdometry(T_odom_camera, frame.t_ns, "odom", "camera", sigma);
+    impl_->odometry->write(&odometry);
+  }
+}
+
+void SensorPublisher::flush() {
+  for (dds::DataWriter* w : {impl_->colour, impl_->depth, impl_->mask, impl_->odometry})
+    w->wait_for_acknowledgments({2, 0});
+}
+
+}  // namespace dslam

@@ -1,0 +1,35 @@
+#pragma once
+// A vehicle's sensors on DDS: writers of colour (bgr8), depth (32FC1), instance mask (16UC1) and
+// odometry (the camera pose in the odometry frame) under the vehicle's topic namespace. Used by
+// `dslam publish` and the latency benchmark; no Fast DDS type appears in this header.
+
+#include <atomic>
+#include <memory>
+#include <string>
+
+#include "frontend/image_frame.h"
+
+namespace dslam {
+
+class SensorPublisher {
+ public:
+  // Throws std::runtime_error when the participant or a writer cannot be created.
+  SensorPublisher(int domain_id, const std::string& profiles_file, const std::string& vehicle);
+  ~SensorPublisher();
+  SensorPublisher(const SensorPublisher&) = delete;
+  SensorPublisher& operator=(const SensorPublisher&) = delete;
+
+  // Waits until every input topic has a reader (discovery takes a moment), at most `timeout_s`.
+  bool waitForReaders(double timeout_s, const std::atomic<bool>* stop = nullptr);
+  // The frame's images with its stamp; the odometry pose too when `with_odometry` (sigma: of the
+  // increment into this frame, sent as the pose covariance's diagonal).
+  void publish(const ImageFrame& frame, const SE3& T_odom_camera, const Vec6& sigma, bool with_odometry);
+  // Lets reliable writers deliver what is queued (at most 2 s).
+  void flush();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace dslam
