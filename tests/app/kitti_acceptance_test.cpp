@@ -10,6 +10,7 @@
 #include "data/kitti_dataset.h"
 #include "pipeline/run_sequence.h"
 #include "simulation/kitti_replay.h"
+#include "support/temp_paths.h"
 
 namespace dslam {
 namespace {
@@ -70,7 +71,7 @@ TEST(KittiReplay, CommandWritesTheObjectTable) {
   o.sequence = "0003";
   o.quiet = true;
   o.schedule = "window:10";
-  o.out_dir = (fs::temp_directory_path() / ("dslam_kitti_cmd_" + std::to_string(::getpid()))).string();
+  o.out_dir = test::TempPath("kitti_cmd");
   std::ostringstream out, err;
   ASSERT_EQ(RunKittiReplayCommand(o, out, err), 0) << err.str();
   EXPECT_NE(out.str().find("Per object (ours)"), std::string::npos);
@@ -86,7 +87,7 @@ TEST(KittiReplay, CommandWritesTheObjectTable) {
 }
 
 TEST(KittiReplay, BadInputIsAClearErrorNotACrash) {
-  const fs::path dir = fs::temp_directory_path() / ("dslam_kitti_bad_" + std::to_string(::getpid()));
+  const fs::path dir = fs::path(test::TempPath("kitti_bad"));
   fs::create_directories(dir / "label_02");
   std::ofstream(dir / "pose_gt.txt") << "0 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n1 1 0 0 0 0 1 0 0 0 0 1 1 0 0 0 1\n";
   std::ofstream(dir / "label_02" / "0007.txt") << "0 0 Car 0 0 -1.5 10 10 50 50 1.5 1.6\n";

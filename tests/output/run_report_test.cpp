@@ -7,6 +7,7 @@
 
 #include "pipeline/run_sequence.h"
 #include "simulation/scenarios.h"
+#include "support/temp_paths.h"
 
 namespace dslam {
 namespace {
@@ -31,7 +32,7 @@ TEST(RunReport, WritesEveryResultFile) {
   RunConfig config;
   config.backend.default_mode = MotionMode::kConstant;
   const MethodOutcomes outcomes = RunSequence(seq, config);
-  const std::string dir = (std::filesystem::temp_directory_path() / ("dslam_report_" + std::to_string(::getpid()))).string();
+  const std::string dir = test::TempPath("report");
   WriteRunOutputs(dir, seq, outcomes, {{"command", "test"}});
   for (const char* f : {"metrics.json", "camera_gt.tum", "camera_ours.tum", "camera_static_only.tum",
                         "camera_slam_mot.tum", "camera_ours.kitti", "object_motions.csv", "object_speeds.csv",
