@@ -39,6 +39,7 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
     if (!options.vehicles.empty()) serve.vehicles = options.vehicles;
     serve.assembler.expect_odometry = !options.no_odometry;
     serve.assembler.timeout_ns = static_cast<int64_t>(options.timeout_ms) * 1'000'000;
+    serve.assembler.silence_timeout_ns = static_cast<int64_t>(options.silence_ms) * 1'000'000;
     serve.assembler.max_pending = options.max_pending;
     serve.frame_rate_hz = options.frame_rate_hz;
     serve.out_dir = options.out_dir;

@@ -20,7 +20,8 @@ struct ServeCommandOptions {
   std::string out_dir = "results/serve";
   bool no_odometry = false;             // do not wait for odometry with every frame
   double frame_rate_hz = 10.0;
-  int timeout_ms = 500;
+  int timeout_ms = 500;                 // an incomplete set this far behind the newest stamp is dropped
+  int silence_ms = 2000;                // with no sample for this long, incomplete sets are dropped
   int max_pending = 8;                  // frame sets waiting for assembly or for the pipeline (oldest dropped)
   double status_every_s = 5.0;          // status line period on the console (0: never)
   double max_run_s = 0.0;               // stop by itself after this long (0: only on SIGINT/SIGTERM)

@@ -156,7 +156,12 @@ int main(int argc, char** argv) {
   serve_cmd->add_option("--out", serve.out_dir, "Results directory (one folder per vehicle)")->capture_default_str();
   serve_cmd->add_flag("--no-odometry", serve.no_odometry, "Do not wait for odometry with every frame");
   serve_cmd->add_option("--rate", serve.frame_rate_hz, "Sensor frame rate (Hz), for speeds")->capture_default_str();
-  serve_cmd->add_option("--timeout-ms", serve.timeout_ms, "An incomplete frame set is dropped after this")
+  serve_cmd->add_option("--timeout-ms", serve.timeout_ms,
+                        "An incomplete frame set this far (stamps) behind the newest one is dropped")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  serve_cmd->add_option("--silence-ms", serve.silence_ms,
+                        "When no sample arrives for this long (wall time), incomplete frame sets are dropped")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   serve_cmd->add_option("--max-pending", serve.max_pending,

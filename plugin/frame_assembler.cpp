@@ -1,15 +1,26 @@
 #include "plugin/frame_assembler.h"
 
+#include <chrono>
 #include <stdexcept>
 
 namespace dslam {
 
 void AssemblerParams::validate() const {
   if (timeout_ns <= 0) throw std::invalid_argument("assembler timeout must be positive");
+  if (silence_timeout_ns <= 0) throw std::invalid_argument("assembler silence timeout must be positive");
   if (max_pending < 1) throw std::invalid_argument("assembler max_pending must be >= 1");
 }
 
-FrameAssembler::FrameAssembler(const AssemblerParams& params) : params_(params) { params_.validate(); }
+int64_t SteadyClockNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+FrameAssembler::FrameAssembler(const AssemblerParams& params, WallClockNs wall_clock_ns)
+    : params_(params), wall_clock_ns_(std::move(wall_clock_ns)) {
+  params_.validate();
+  if (!wall_clock_ns_) throw std::invalid_argument("assembler needs a wall clock");
+}
 
 void FrameAssembler::reject(const std::string& reason) {
   ++counters_.rejected_invalid;
@@ -18,6 +29,7 @@ void FrameAssembler::reject(const std::string& reason) {
 
 FrameAssembler::Pending* FrameAssembler::slot(int64_t t_ns, const char* what) {
   ++counters_.parts_received;
+  last_arrival_wall_ns_ = wall_clock_ns_();
   if (last_released_ns_ && t_ns <= *last_released_ns_) {
     reject(std::string(what) + " stamp " + std::to_string(t_ns) + " ns is not after the last assembled frame (" +
            std::to_string(*last_released_ns_) + " ns): stamps went backwards or the sample came too late");
@@ -65,12 +77,13 @@ bool FrameAssembler::complete(const Pending& p) const {
 
 std::vector<ImageFrame> FrameAssembler::takeReady() {
   std::vector<ImageFrame> ready;
+  const bool silent = wall_clock_ns_() - last_arrival_wall_ns_ >= params_.silence_timeout_ns;
   while (!pending_.empty()) {
     auto it = pending_.begin();
     if (!complete(it->second)) {
       // The oldest set waits for its missing parts (topics arrive in any order) until it times out;
       // later sets wait behind it so that frames leave in stamp order.
-      if (newest_ns_ - it->first < params_.timeout_ns) break;
+      if (!silent && newest_ns_ - it->first < params_.timeout_ns) break;
       pending_.erase(it);
       ++counters_.dropped_incomplete;
       continue;

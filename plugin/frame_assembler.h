@@ -4,12 +4,15 @@
 //  - a set is complete when it has colour, depth, a mask (when masks are expected) and odometry (when
 //    odometry is expected); complete sets are released in stamp order;
 //  - a set older than `timeout_ns` behind the newest stamp seen is dropped as incomplete;
+//  - when no part at all has arrived for `silence_timeout_ns` of wall time (the stream stopped, so no
+//    newer stamp will come), the incomplete sets still waiting are dropped too;
 //  - at most `max_pending` sets wait; a new stamp beyond that drops the oldest (counted);
 //  - a part whose stamp is not newer than the last released frame is rejected (stamps going backwards).
 // Middleware-free: the DDS readers hand it decoded parts (plugin/image_message.h).
 
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -23,6 +26,8 @@ struct AssemblerParams {
   bool expect_mask = true;
   bool expect_odometry = false;
   int64_t timeout_ns = 500'000'000;  // 0.5 s: five frames at 10 Hz
+  // Longer than a sensor's gap between frames, so that only a stopped stream triggers it.
+  int64_t silence_timeout_ns = 2'000'000'000;
   int max_pending = 8;
   void validate() const;
 };
@@ -42,9 +47,13 @@ struct StampedPose {
   Vec6 sigma = Vec6::Constant(0.01);  // of the increment derived from consecutive poses
 };
 
+// Monotonic wall time in ns; injectable so that tests control it.
+using WallClockNs = std::function<int64_t()>;
+int64_t SteadyClockNs();
+
 class FrameAssembler {
  public:
-  explicit FrameAssembler(const AssemblerParams& params);
+  explicit FrameAssembler(const AssemblerParams& params, WallClockNs wall_clock_ns = SteadyClockNs);
 
   void addColour(int64_t t_ns, const cv::Mat& image);
   void addDepth(int64_t t_ns, const cv::Mat& depth_m);
@@ -54,7 +63,8 @@ class FrameAssembler {
   void reject(const std::string& reason);
 
   // Complete frames in stamp order, numbered 0, 1, 2, ... with the odometry increment from the
-  // previous released frame's pose. Also applies the timeout against the newest stamp seen.
+  // previous released frame's pose. Also applies the timeouts: against the newest stamp seen, and
+  // against the wall time since the last part arrived.
   std::vector<ImageFrame> takeReady();
 
   const AssemblerCounters& counters() const { return counters_; }
@@ -68,6 +78,8 @@ class FrameAssembler {
   bool complete(const Pending& p) const;
 
   AssemblerParams params_;
+  WallClockNs wall_clock_ns_;
+  int64_t last_arrival_wall_ns_ = 0;
   std::map<int64_t, Pending> pending_;
   std::optional<int64_t> last_released_ns_;
   std::optional<StampedPose> last_released_pose_;

@@ -22,6 +22,14 @@ void AddAll(FrameAssembler& a, int64_t t, double z) {
   a.addColour(t, kImage);
 }
 
+// A wall clock the test moves by hand, so that no timeout depends on the machine's speed.
+struct FakeClock {
+  int64_t now_ns = 0;
+  WallClockNs fn() {
+    return [this] { return now_ns; };
+  }
+};
+
 AssemblerParams WithOdometry() {
   AssemblerParams p;
   p.expect_odometry = true;
@@ -52,7 +60,8 @@ TEST(FrameAssembler, ReleasesCompleteSetsInStampOrderWithOdometryIncrements) {
 TEST(FrameAssembler, DropsIncompleteSetsAfterTheTimeoutAndCountsThem) {
   AssemblerParams p = WithOdometry();
   p.timeout_ns = 1000;
-  FrameAssembler a(p);
+  FakeClock clock;
+  FrameAssembler a(p, clock.fn());
   a.addColour(100, kImage);  // never completed
   AddAll(a, 600, 1.0);
   EXPECT_TRUE(a.takeReady().empty());  // 500 ns behind the newest: still waiting
@@ -61,6 +70,32 @@ TEST(FrameAssembler, DropsIncompleteSetsAfterTheTimeoutAndCountsThem) {
   ASSERT_EQ(frames.size(), 2u);
   EXPECT_EQ(frames[0].t_ns, 600);
   EXPECT_EQ(a.counters().dropped_incomplete, 1u);
+}
+
+TEST(FrameAssembler, DropsTheLastIncompleteSetOnceTheStreamFallsSilent) {
+  // No newer stamp follows the last frame of a stream: only wall time can time it out.
+  AssemblerParams p = WithOdometry();
+  p.silence_timeout_ns = 2'000;
+  FakeClock clock;
+  FrameAssembler a(p, clock.fn());
+  AddAll(a, 100, 0.0);
+  a.addColour(200, kImage);  // its depth, mask and odometry never come
+  clock.now_ns = 1'000;
+  a.addDepth(200, kDepth);  // a part arriving restarts the silence
+  EXPECT_EQ(a.takeReady().size(), 1u);
+  clock.now_ns = 2'999;
+  EXPECT_TRUE(a.takeReady().empty());
+  EXPECT_EQ(a.counters().dropped_incomplete, 0u);
+  clock.now_ns = 3'000;
+  EXPECT_TRUE(a.takeReady().empty());
+  EXPECT_EQ(a.counters().dropped_incomplete, 1u);
+  // The stream resumes: the next complete set is released at once.
+  AddAll(a, 300, 1.0);
+  const auto frames = a.takeReady();
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_EQ(frames[0].t_ns, 300);
+  ASSERT_TRUE(frames[0].odometry);
+  EXPECT_NEAR(frames[0].odometry->T_prev_curr.translation().z(), 1.0, 1e-12);
 }
 
 TEST(FrameAssembler, BoundsThePendingSetsByDroppingTheOldest) {
@@ -86,7 +121,12 @@ TEST(FrameAssembler, RejectsStampsGoingBackwardsAndBadOdometry) {
   a.addOdometry(600, nan_pose);
   EXPECT_EQ(a.counters().rejected_invalid, 2u);
   EXPECT_NE(a.counters().last_rejection.find("not finite"), std::string::npos);
-  EXPECT_THROW(FrameAssembler(AssemblerParams{true, false, 0, 8}), std::invalid_argument);
+  AssemblerParams no_timeout;
+  no_timeout.timeout_ns = 0;
+  EXPECT_THROW(FrameAssembler{no_timeout}, std::invalid_argument);
+  AssemblerParams no_silence;
+  no_silence.silence_timeout_ns = 0;
+  EXPECT_THROW(FrameAssembler{no_silence}, std::invalid_argument);
 }
 
 }  // namespace
