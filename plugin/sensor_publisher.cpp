@@ -64,7 +64,7 @@ void SensorPublisher::publish(const ImageFrame& frame, const SE3& T_odom_camera,
 
 void SensorPublisher::flush() {
   for (dds::DataWriter* w : {impl_->colour, impl_->depth, impl_->mask, impl_->odometry})
-    w->wait_for_acknowledgments({2, 0});
+    w->wait_for_acknowledgments({10, 0});
 }
 
 }  // namespace dslam

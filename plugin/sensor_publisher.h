@@ -24,7 +24,8 @@ class SensorPublisher {
   // The frame's images with its stamp; the odometry pose too when `with_odometry` (sigma: of the
   // increment into this frame, sent as the pose covariance's diagonal).
   void publish(const ImageFrame& frame, const SE3& T_odom_camera, const Vec6& sigma, bool with_odometry);
-  // Lets reliable writers deliver what is queued (at most 2 s).
+  // Lets reliable writers deliver what is queued: returns once every reliable reader has acknowledged
+  // it, at most 10 s (a reader that discovers this writer late asks for it at the next heartbeat).
   void flush();
 
  private:

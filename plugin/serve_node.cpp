@@ -40,8 +40,9 @@ dslam_msgs::msg::ObjectMotionArray ToMessage(const FrameEstimate& e, double fram
     const Vec3 v = m.velocity_world_per_frame * frame_rate_hz;
     o.velocity_mps().x(v.x()), o.velocity_mps().y(v.y()), o.velocity_mps().z(v.z());
     o.speed_mps(m.speed_mps);
-    o.centroid_world().x(m.centroid_prev_world.x()), o.centroid_world().y(m.centroid_prev_world.y());
-    o.centroid_world().z(m.centroid_prev_world.z());
+    const Vec3 centroid_world = m.H_world * m.centroid_prev_world;  // the points moved rigidly by H into k
+    o.centroid_world().x(centroid_world.x()), o.centroid_world().y(centroid_world.y());
+    o.centroid_world().z(centroid_world.z());
     o.is_dynamic(m.is_dynamic);
     msg.objects().push_back(o);
   }
@@ -179,15 +180,30 @@ class Vehicle {
   void run() {
     for (;;) {
       std::vector<ImageFrame> frames;
+      bool counters_changed = false;
       {
         std::unique_lock<std::mutex> lock(mutex_);
         wake_.wait_for(lock, std::chrono::milliseconds(50));
         frames = assembler_.takeReady();
         status_.counters = assembler_.counters();
+        counters_changed = ProblemCount(status_.counters) != published_problems_;
         if (frames.empty() && stopping_) return;
       }
       for (const ImageFrame& frame : frames) process(frame);
+      // Drops and rejections with no frame to follow (a stream that stopped, a stream of bad samples)
+      // are reported too, stamped with the wall time.
+      if (frames.empty() && counters_changed) publishStatus(SystemClockNs());
     }
+  }
+
+  // Drops and rejections so far; the counters only grow, so their sum changes whenever one of them does.
+  static uint64_t ProblemCount(const AssemblerCounters& c) {
+    return c.dropped_queue_full + c.dropped_incomplete + c.rejected_invalid;
+  }
+
+  static int64_t SystemClockNs() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+        .count();
   }
 
   void process(const ImageFrame& frame) {
@@ -208,13 +224,20 @@ class Vehicle {
     odometry_writer_->write(&odometry);
     dslam_msgs::msg::ObjectMotionArray objects = ToMessage(estimate, options_.frame_rate_hz);
     objects_writer_->write(&objects);
-    dslam_msgs::msg::Status status;
     {
       std::lock_guard<std::mutex> lock(mutex_);
       ++status_.frames_processed;
       status_.last_latency_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    }
+    publishStatus(frame.t_ns);
+  }
+
+  void publishStatus(int64_t t_ns) {
+    dslam_msgs::msg::Status status;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
       const AssemblerCounters& c = assembler_.counters();
-      status.header().stamp(NsToStamp(frame.t_ns));
+      status.header().stamp(NsToStamp(t_ns));
       status.vehicle(name_);
       status.frames_received(c.parts_received);
       status.frames_assembled(c.frames_assembled);
@@ -224,6 +247,7 @@ class Vehicle {
       status.rejected_invalid(c.rejected_invalid);
       status.last_rejection(c.last_rejection);
       status.last_latency_ms(status_.last_latency_ms);
+      published_problems_ = ProblemCount(c);
     }
     status_writer_->write(&status);
   }
@@ -235,6 +259,8 @@ class Vehicle {
   bool stopping_ = false;
   FrameAssembler assembler_;
   VehicleStatus status_;
+  // Drops and rejections as of the last status message, to publish a new one when one more happens.
+  uint64_t published_problems_ = 0;
   std::mutex pipeline_mutex_;
   VehiclePipeline pipeline_;
   std::vector<FrameEstimate> online_;

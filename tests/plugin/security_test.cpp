@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "support/child_process.h"
+#include "support/dds_profiles.h"
 #include "support/rendered_city.h"
 #include "support/temp_paths.h"
 
@@ -25,7 +26,12 @@ TEST(DdsSecurity, OnlyAuthenticatedParticipantsCanInjectFrames) {
   const std::string dataset = test::RenderedCity("dds_security_city", 5);
   const std::string domain = std::to_string(200 + ::getpid() % 30);
   const std::string out = test::TempPath("dds_security_out");
-  test::Process serve({"serve", "--domain", domain, "--profiles", certs + "/serve_profiles.xml", "--calib",
+  // serve must count all 20 samples of the trusted publisher (see WithLosslessSensorStreams).
+  const std::string serve_profiles =
+      test::WithLosslessSensorStreams(certs + "/serve_profiles.xml", certs + "/serve_lossless_profiles.xml");
+  const std::string trusted_profiles =
+      test::WithLosslessSensorStreams(certs + "/publisher_profiles.xml", certs + "/publisher_lossless_profiles.xml");
+  test::Process serve({"serve", "--domain", domain, "--profiles", serve_profiles, "--calib",
                        dataset + "/calib.txt", "--out", out, "--status-every", "0"},
                       test::TempPath("secure_serve.log"));
   auto publish = [&](const std::string& profiles, const std::string& log) {
@@ -36,7 +42,7 @@ TEST(DdsSecurity, OnlyAuthenticatedParticipantsCanInjectFrames) {
   // reader to match, publishes into the void and serve receives nothing.
   EXPECT_EQ(publish(std::string(DSLAM_SOURCE_DIR) + "/config/dds_profiles.xml", test::TempPath("plain.log")), 0);
   EXPECT_EQ(publish(intruder + "/publisher_profiles.xml", test::TempPath("intruder.log")), 0);
-  EXPECT_EQ(publish(certs + "/publisher_profiles.xml", test::TempPath("trusted.log")), 0);
+  EXPECT_EQ(publish(trusted_profiles, test::TempPath("trusted.log")), 0);
   std::this_thread::sleep_for(3s);  // let serve finish the frames
   serve.signal(SIGTERM);
   ASSERT_EQ(serve.wait(60s), 0) << test::ReadFile(test::TempPath("secure_serve.log"));
