@@ -18,7 +18,7 @@ struct PublishOptions {
   double rate_hz = 10.0;
   int start_frame = 0;       // resume a replay (stamps continue where they were)
   int frames = 0;            // 0: to the end
-  double wait_for_reader_s = 10.0;  // wait this long for a reader of the colour topic before publishing
+  double wait_for_reader_s = 10.0;  // wait this long for readers of every input topic before publishing
 };
 
 // Returns the number of frames published; stops early when *stop becomes true. Throws

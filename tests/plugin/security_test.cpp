@@ -34,15 +34,17 @@ TEST(DdsSecurity, OnlyAuthenticatedParticipantsCanInjectFrames) {
   test::Process serve({"serve", "--domain", domain, "--profiles", serve_profiles, "--calib",
                        dataset + "/calib.txt", "--out", out, "--status-every", "0"},
                       test::TempPath("secure_serve.log"));
-  auto publish = [&](const std::string& profiles, const std::string& log) {
-    test::Process p({"publish", "--domain", domain, "--profiles", profiles, "--dataset", dataset, "--wait", "4"}, log);
-    return p.wait(60s);
+  // --wait: how long a publisher looks for serve's readers; one without valid credentials never finds them.
+  auto publish = [&](const std::string& profiles, const std::string& log, const std::string& wait_s) {
+    test::Process p({"publish", "--domain", domain, "--profiles", profiles, "--dataset", dataset, "--wait", wait_s},
+                    log);
+    return p.wait(90s);
   };
   // Without security, and with a certificate from a CA serve does not trust: the publisher finds no
   // reader to match, publishes into the void and serve receives nothing.
-  EXPECT_EQ(publish(std::string(DSLAM_SOURCE_DIR) + "/config/dds_profiles.xml", test::TempPath("plain.log")), 0);
-  EXPECT_EQ(publish(intruder + "/publisher_profiles.xml", test::TempPath("intruder.log")), 0);
-  EXPECT_EQ(publish(trusted_profiles, test::TempPath("trusted.log")), 0);
+  EXPECT_EQ(publish(std::string(DSLAM_SOURCE_DIR) + "/config/dds_profiles.xml", test::TempPath("plain.log"), "4"), 0);
+  EXPECT_EQ(publish(intruder + "/publisher_profiles.xml", test::TempPath("intruder.log"), "4"), 0);
+  EXPECT_EQ(publish(trusted_profiles, test::TempPath("trusted.log"), "30"), 0);
   std::this_thread::sleep_for(3s);  // let serve finish the frames
   serve.signal(SIGTERM);
   ASSERT_EQ(serve.wait(60s), 0) << test::ReadFile(test::TempPath("secure_serve.log"));

@@ -220,7 +220,7 @@ std::vector<std::string> ServeArgs(int domain, const std::string& dataset, const
 
 std::vector<std::string> PublishArgs(int domain, const std::string& dataset, const std::string& rate) {
   return {"publish", "--domain", std::to_string(domain), "--profiles", LosslessProfiles(), "--dataset", dataset,
-          "--rate", rate};
+          "--rate", rate, "--wait", "60"};
 }
 
 TEST(ServeLoopback, EstimatesEqualTheRecordedRunAndSigtermWritesTheResults) {
