@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "support/child_process.h"
+#include "support/dds_domain.h"
 #include "support/dds_profiles.h"
 #include "support/rendered_city.h"
 #include "support/temp_paths.h"
@@ -24,7 +25,7 @@ TEST(DdsSecurity, OnlyAuthenticatedParticipantsCanInjectFrames) {
   ASSERT_EQ(std::system((script + " " + intruder + " publisher > /dev/null").c_str()), 0);  // another CA
 
   const std::string dataset = test::RenderedCity("dds_security_city", 5);
-  const std::string domain = std::to_string(200 + ::getpid() % 30);
+  const std::string domain = std::to_string(test::DomainFor(test::DdsTestSlot::kSecurity));
   const std::string out = test::TempPath("dds_security_out");
   // serve must count all 20 samples of the trusted publisher (see WithLosslessSensorStreams).
   const std::string serve_profiles =

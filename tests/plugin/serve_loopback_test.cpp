@@ -24,6 +24,7 @@
 #include "plugin/vehicle_pipeline.h"
 #include "sensor_msgs_ImagePubSubTypes.h"
 #include "support/child_process.h"
+#include "support/dds_domain.h"
 #include "support/dds_profiles.h"
 #include "support/no_display.h"
 #include "support/rendered_city.h"
@@ -37,8 +38,6 @@ using namespace std::chrono_literals;
 
 const std::string kProfiles = std::string(DSLAM_SOURCE_DIR) + "/config/dds_profiles.xml";
 
-// A domain id of its own for each test of each run.
-int Domain(int test) { return 100 + (static_cast<int>(::getpid()) * 7 + test) % 100; }
 
 std::string CityDataset(int frames, uint64_t seed) {
   return test::RenderedCity("dds_city_" + std::to_string(frames) + "_" + std::to_string(seed), frames, seed);
@@ -229,7 +228,7 @@ std::vector<std::string> PublishArgs(int domain, const std::string& dataset, con
 
 TEST(ServeLoopback, EstimatesEqualTheRecordedRunAndSigtermWritesTheResults) {
   const std::string dataset = CityDataset(100, 1);
-  const int domain = Domain(1);
+  const int domain = test::DomainFor(test::DdsTestSlot::kLoopbackEqual);
   const std::string out = test::TempPath("serve_out");
   test::Process serve(ServeArgs(domain, dataset, out), test::TempPath("serve.log"));
   Listener listener(domain, "");
@@ -251,7 +250,7 @@ TEST(ServeLoopback, EstimatesEqualTheRecordedRunAndSigtermWritesTheResults) {
 
 TEST(ServeLoopback, BadSamplesAreRejectedAndCountedAndServeKeepsRunning) {
   const std::string dataset = CityDataset(12, 1);
-  const int domain = Domain(2);
+  const int domain = test::DomainFor(test::DdsTestSlot::kLoopbackBadSamples);
   test::Process serve(ServeArgs(domain, dataset, test::TempPath("serve_bad_out"), "1000"),
                       test::TempPath("serve_bad.log"));
   Listener listener(domain, "");
@@ -308,7 +307,7 @@ TEST(ServeLoopback, BadSamplesAreRejectedAndCountedAndServeKeepsRunning) {
 
 TEST(ServeLoopback, APublisherRestartedMidSequenceIsFollowedAndTwoVehiclesStaySeparate) {
   const std::string city_a = CityDataset(16, 1), city_b = CityDataset(16, 2);
-  const int domain = Domain(3);
+  const int domain = test::DomainFor(test::DdsTestSlot::kLoopbackRestart);
   auto args = ServeArgs(domain, city_a, test::TempPath("serve_two_out"));
   for (const char* v : {"--vehicle", "a", "--vehicle", "b"}) args.push_back(v);
   test::Process serve(args, test::TempPath("serve_two.log"));
@@ -349,7 +348,7 @@ TEST(ServeLoopback, VehiclesServedByTwoProcessesOfOneDomainStaySeparate) {
   // The vehicles of one network spread over participants (here processes; hosts work the same through
   // discovery): each serve follows only its own namespace.
   const std::string city_a = CityDataset(10, 1), city_b = CityDataset(10, 2);
-  const int domain = Domain(4);
+  const int domain = test::DomainFor(test::DdsTestSlot::kLoopbackTwoProcesses);
   const std::string out_a = test::TempPath("serve_a_out"), out_b = test::TempPath("serve_b_out");
   auto serve_args = [&](const std::string& out, const std::string& vehicle) {
     auto args = ServeArgs(domain, city_a, out);
