@@ -209,9 +209,11 @@ void ExpectBothEqualTheirReferences(Listener& a, const std::string& city_a, List
   ExpectSameEstimates(Reference(city_b), b);
 }
 
-// The shipped profiles with lossless sensor streams, for serve and the publishers.
-std::string LosslessProfiles() {
-  return test::WithLosslessSensorStreams(kProfiles, test::TempPath("lossless_profiles.xml"));
+// The shipped profiles with lossless sensor streams, for serve and the publishers. Written once per
+// process: rewriting it for every child would truncate the file while an earlier child may be reading it.
+const std::string& LosslessProfiles() {
+  static const std::string path = test::WithLosslessSensorStreams(kProfiles, test::TempPath("lossless_profiles.xml"));
+  return path;
 }
 
 // Generous timeouts: a loaded machine may stall a publisher between the parts of a frame.
