@@ -44,9 +44,9 @@ struct BackendParams {
   // motion frame to frame; the constant and smoothed models belong to the joint method.
   MotionMode slam_mot_mode = MotionMode::kPerStep;
   RansacParams motion_ransac{200, 0.3, 4, 7};  // H initialisation and outlier-track rejection
-  // Sliding window: a landmark in the window keeps its observations from up to this many frames
-  // before the window (cameras there fixed), which anchors the window to the past at bounded cost.
-  int window_history_frames = 40;
+  // Fixed-lag smoother: per-frame object points and object motions stay this many frames (2..W) in the
+  // window; older ones are marginalised (backend/marginalisation.h). Cameras and static structure stay W.
+  int object_window_frames = 3;
   int max_iterations_batch = 50;
   int max_iterations_window = 10;
   // Relative cost decrease below which a window solve stops. Each window starts from the previous

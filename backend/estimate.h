@@ -32,4 +32,23 @@ struct Estimate {
   std::vector<PointEstimate> points;
 };
 
+// Receives estimates as they become final (the fixed-lag smoother: when they leave its window),
+// cameras in frame order. A result sink (files, DDS) streams them; nothing else keeps them.
+class EstimateSink {
+ public:
+  virtual ~EstimateSink() = default;
+  virtual void cameraFinal(int frame, const SE3& T_world_camera) = 0;
+  virtual void motionFinal(const ObjectMotionEstimate& motion) = 0;
+  virtual void pointFinal(const PointEstimate& point) = 0;
+};
+
+// Keeps everything it receives, as one Estimate (runs that evaluate at the end).
+class CollectingSink : public EstimateSink {
+ public:
+  void cameraFinal(int, const SE3& T_world_camera) override { estimate.T_world_camera.push_back(T_world_camera); }
+  void motionFinal(const ObjectMotionEstimate& motion) override { estimate.object_motions.push_back(motion); }
+  void pointFinal(const PointEstimate& point) override { estimate.points.push_back(point); }
+  Estimate estimate;
+};
+
 }  // namespace dslam

@@ -1,18 +1,22 @@
 #include "backend/estimator.h"
 
 #include <algorithm>
-
 #include <chrono>
 #include <stdexcept>
 
 #include "backend/factors/pose_block.h"
 #include "backend/graph_solver.h"
-#include "geometry/velocity.h"
+#include "backend/marginalisation.h"
+#include "backend/window_solver.h"
 
 namespace dslam {
 
 Estimator::Estimator(const BackendParams& params, double frame_rate_hz, const EstimatorOptions& options)
-    : params_(params), frame_rate_hz_(frame_rate_hz), options_(options), builder_(params_, options.builder, &graph_) {
+    : params_(params),
+      frame_rate_hz_(frame_rate_hz),
+      options_(options),
+      builder_(params_, options.builder, &graph_),
+      sink_(options.sink ? options.sink : &collected_) {
   params_.validate();
   if (!(frame_rate_hz > 0.0)) throw std::invalid_argument("frame rate must be positive");
 }
@@ -29,10 +33,20 @@ void Estimator::addFrame(const FrameMeasurement& frame) {
   if (params_.schedule.kind != ScheduleKind::kSlidingWindow) return;
 
   const auto start = std::chrono::steady_clock::now();
-  SolveOptions solve = solveOptions(k - params_.schedule.window_frames + 1, k, params_.max_iterations_window);
+  const int window = params_.schedule.window_frames;
+  const int object_window = std::min(params_.object_window_frames, window);
+  if (k - object_window >= 0) MarginaliseObjectFrame(params_, frame_rate_hz_, k - object_window, &graph_, sink_);
+  if (k - window >= 0) {
+    MarginaliseCameraFrame(params_, k - window, &graph_, sink_);
+    cameras_final_ = k - window + 1;
+  }
+  WindowSolveOptions solve;
+  solve.first_frame = std::max(0, k - window + 1);
+  solve.last_frame = k;
+  solve.max_iterations = params_.max_iterations_window;
   solve.function_tolerance = params_.window_function_tolerance;
-  solve.history_frames = params_.window_history_frames;
-  const SolveSummary summary = SolveGraph(params_, solve, &graph_);
+  solve.fix_cameras = options_.fixed_T_world_camera != nullptr;
+  const WindowSolveSummary summary = SolveWindow(params_, solve, &graph_);
   solve_residual_blocks_.push_back(summary.num_residual_blocks);
   solve_iterations_.push_back(summary.num_iterations);
   solve_times_ms_.push_back(
@@ -40,67 +54,44 @@ void Estimator::addFrame(const FrameMeasurement& frame) {
 }
 
 Estimate Estimator::finish() {
-  if (params_.schedule.kind == ScheduleKind::kBatch)
-    SolveGraph(params_, solveOptions(0, graph_.numFrames() - 1, params_.max_iterations_batch), &graph_);
-  return extract();
-}
-
-SolveOptions Estimator::solveOptions(int first_frame, int last_frame, int max_iterations) const {
-  SolveOptions solve;
-  solve.first_frame = first_frame;
-  solve.last_frame = last_frame;
-  solve.max_iterations = max_iterations;
-  solve.num_threads = params_.num_threads;
-  solve.fix_cameras = options_.fixed_T_world_camera != nullptr;
-  return solve;
-}
-
-ObjectMotionEstimate Estimator::motionEstimate(const ObjectTransition& tr) const {
-  ObjectMotionEstimate m;
-  m.object_id = tr.object_id;
-  m.frame = tr.frame;
-  m.is_dynamic = tr.is_dynamic;
-  if (tr.is_dynamic) m.H_world = graph_.motions[tr.motion_var].worldMotion();
-  Vec3 centroid = Vec3::Zero();
-  for (int v : tr.prev_point_vars) {
-    const auto& p = graph_.points[v].p_world;
-    centroid += Vec3(p[0], p[1], p[2]);
+  if (params_.schedule.kind == ScheduleKind::kBatch) {
+    SolveOptions solve;
+    solve.last_frame = graph_.numFrames() - 1;
+    solve.max_iterations = params_.max_iterations_batch;
+    solve.num_threads = params_.num_threads;
+    solve.fix_cameras = options_.fixed_T_world_camera != nullptr;
+    SolveGraph(params_, solve, &graph_);
   }
-  if (!tr.prev_point_vars.empty()) centroid /= static_cast<double>(tr.prev_point_vars.size());
-  m.centroid_prev_world = centroid;
-  m.velocity_world_per_frame = tr.is_dynamic ? ObjectVelocityPerFrame(m.H_world, centroid) : Vec3::Zero();
-  m.speed_mps = SpeedMps(m.velocity_world_per_frame, frame_rate_hz_);
-  return m;
+  flush();
+  return std::move(collected_.estimate);
+}
+
+void Estimator::flush() {
+  for (const auto& tr : graph_.transitions)
+    if (!(tr.is_dynamic && tr.motion_var < 0)) sink_->motionFinal(MotionEstimateOf(graph_, tr, frame_rate_hz_));
+  graph_.transitions.clear();
+  for (int k = cameras_final_; k < graph_.numFrames(); ++k) {
+    for (const auto& meas : graph_.frame(k).measurements) {
+      const PointVariable& var = graph_.points.at(meas.point_var);
+      sink_->pointFinal({k, var.track_id, var.object_id, Vec3(var.p_world[0], var.p_world[1], var.p_world[2])});
+    }
+  }
+  for (; cameras_final_ < graph_.numFrames(); ++cameras_final_)
+    sink_->cameraFinal(cameras_final_, BlockToPose(graph_.camera(cameras_final_)));
 }
 
 FrameEstimate Estimator::latest() const {
   FrameEstimate out;
   if (graph_.numFrames() == 0) return out;
   out.frame = graph_.numFrames() - 1;
-  out.T_world_camera = BlockToPose(graph_.camera_poses.back().data());
+  out.T_world_camera = BlockToPose(graph_.camera(out.frame));
   // Transitions are appended frame by frame: the newest frame's are at the back.
   for (auto it = graph_.transitions.rbegin(); it != graph_.transitions.rend() && it->frame == out.frame; ++it) {
     if (it->is_dynamic && it->motion_var < 0) continue;
-    out.object_motions.push_back(motionEstimate(*it));
+    out.object_motions.push_back(MotionEstimateOf(graph_, *it, frame_rate_hz_));
   }
   std::reverse(out.object_motions.begin(), out.object_motions.end());
   return out;
-}
-
-Estimate Estimator::extract() const {
-  Estimate est;
-  for (const auto& block : graph_.camera_poses) est.T_world_camera.push_back(BlockToPose(block.data()));
-  for (const auto& tr : graph_.transitions) {
-    if (tr.is_dynamic && tr.motion_var < 0) continue;  // no estimate for this transition
-    est.object_motions.push_back(motionEstimate(tr));
-  }
-  for (int k = 0; k < graph_.numFrames(); ++k) {
-    for (const auto& meas : graph_.frames[k].measurements) {
-      const PointVariable& var = graph_.points[meas.point_var];
-      est.points.push_back({k, var.track_id, var.object_id, Vec3(var.p_world[0], var.p_world[1], var.p_world[2])});
-    }
-  }
-  return est;
 }
 
 }  // namespace dslam

@@ -1,6 +1,10 @@
 #pragma once
-// The joint estimator: feeds frames into the factor graph and solves it on the configured schedule
-// (batch: once at the end; sliding window: the last W frames after every frame).
+// The joint estimator: feeds frames into the factor graph and solves it on the configured schedule.
+//  - batch: everything is kept and solved once at the end (Ceres, backend/graph_solver.h);
+//  - window:W, the fixed-lag smoother: after every frame the last W frames are solved
+//    (backend/window_solver.h) and what leaves the window is marginalised into priors
+//    (backend/marginalisation.h) and handed to the result sink as final. Its per-frame cost and its
+//    memory are bounded by the window, not by the sequence.
 
 #include <vector>
 
@@ -8,7 +12,6 @@
 #include "backend/estimate.h"
 #include "backend/factor_graph.h"
 #include "backend/graph_builder.h"
-#include "backend/graph_solver.h"
 
 namespace dslam {
 
@@ -16,6 +19,9 @@ struct EstimatorOptions {
   BuilderOptions builder;
   // When set (one pose per frame), camera poses are held at these values: SLAM+MOT's object stage.
   const std::vector<SE3>* fixed_T_world_camera = nullptr;
+  // Where final estimates go as they become final; null: the estimator collects them and finish()
+  // returns them all (runs that evaluate at the end). A streaming sink keeps memory bounded.
+  EstimateSink* sink = nullptr;
 };
 
 // The current estimate of the newest frame: its camera pose and the object motions into it. This is
@@ -32,7 +38,8 @@ class Estimator {
   Estimator(const BackendParams& params, double frame_rate_hz, const EstimatorOptions& options = {});
 
   void addFrame(const FrameMeasurement& frame);
-  // Runs the final batch solve (batch schedule) and extracts the estimate.
+  // Solves (batch) or flushes the window, hands every estimate not yet final to the sink, and returns
+  // the collected estimate (empty when an external sink was given). Call once, after the last frame.
   Estimate finish();
   // The newest frame's estimate (cost independent of the sequence length).
   FrameEstimate latest() const;
@@ -45,15 +52,16 @@ class Estimator {
   const FactorGraph& graph() const { return graph_; }
 
  private:
-  Estimate extract() const;
-  ObjectMotionEstimate motionEstimate(const ObjectTransition& transition) const;
-  SolveOptions solveOptions(int first_frame, int last_frame, int max_iterations) const;
+  void flush();  // hands everything still in the graph to the sink
 
   BackendParams params_;
   double frame_rate_hz_;
   EstimatorOptions options_;
   FactorGraph graph_;
   GraphBuilder builder_;
+  CollectingSink collected_;
+  EstimateSink* sink_;
+  int cameras_final_ = 0;  // cameras [0, cameras_final_) were handed to the sink
   std::vector<double> solve_times_ms_;
   std::vector<int> solve_residual_blocks_;
   std::vector<int> solve_iterations_;

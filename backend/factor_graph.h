@@ -4,7 +4,9 @@
 
 #include <array>
 #include <cstdint>
+#include <deque>
 #include <optional>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -20,13 +22,15 @@ struct PointVariable {
   int64_t track_id = 0;
   int object_id = -1;  // -1: static background structure
   int first_frame = 0;
-  int last_frame = 0;  // last frame a factor refers to it; older than the window => held fixed
-  // Schur elimination group: points linked by a motion factor alternate, so that the points of
-  // the first group form an independent set, as Schur solvers require.
+  int last_frame = 0;  // last frame whose measurement refers to it
+  // Schur elimination group of the batch solver: points linked by a motion factor alternate, so that
+  // the points of the first group form an independent set, as Schur solvers require.
   bool eliminate_first = true;
-  // (frame, index into that frame's measurements) of every observation, oldest first: the sliding
-  // window re-uses a landmark's older observations, against fixed cameras, to keep it anchored.
-  std::vector<std::pair<int, int>> observations;
+  // Marginalised measurements (the fixed-lag smoother folds the measurements of frames that left its
+  // window into this Gaussian prior): information matrix and information vector, p ~ N(info^-1 vec, info^-1).
+  Mat3 prior_info = Mat3::Zero();
+  Vec3 prior_info_vec = Vec3::Zero();
+  bool hasPrior() const { return prior_info.trace() > 0.0; }
 };
 
 // An object's pose change, stored about an anchor point c near the object (not about the world
@@ -55,15 +59,23 @@ struct OdometryEntry {
   Vec6 sigma;
 };
 
+// The ternary factor; once the previous point has been marginalised (prev_point_var = -1) it is a
+// binary factor on (curr, H) with the previous point's marginal mean and a whitening that includes
+// its marginal covariance: r = sqrt_info * (l_k - R_H * prev_mean - t_H).
 struct PointMotionEntry {
   int prev_point_var;
   int curr_point_var;
   int motion_var;
+  Vec3 prev_mean_world = Vec3::Zero();
+  Mat3 sqrt_info = Mat3::Zero();  // used when prev_point_var < 0; otherwise 1/motion_sigma
 };
 
+// prev_motion_var = -1: the previous motion left the window; its final value is held in prev_fixed.
 struct SmoothnessEntry {
   int prev_motion_var;
   int curr_motion_var;
+  PoseBlock prev_fixed{};
+  Vec3 prev_fixed_anchor = Vec3::Zero();
 };
 
 struct FrameFactors {
@@ -80,6 +92,8 @@ struct ObjectTransition {
   bool is_dynamic = true;   // false: the object was static over k-1 -> k, H = identity
   int motion_var = -1;      // -1 when static or when no motion could be initialised
   std::vector<int> prev_point_vars;  // the inlier tracks' variables at k-1 (centroid c_{k-1})
+  // Set once the variables at k-1 leave the smoother's window (their final centroid).
+  std::optional<Vec3> centroid_prev_world;
 };
 
 inline SE3 MotionVariable::worldMotion() const {
@@ -94,16 +108,35 @@ inline PoseBlock MotionVariable::AnchorBlock(const SE3& H_world, const Vec3& anc
   return block;
 }
 
+// Variables keyed by ids that are never reused, so that the fixed-lag smoother can retire what left
+// its window (memory bounded by the window, not the sequence) while the batch schedule keeps it all.
+// Frames (camera poses, factors, transitions) retire from the front: frame k is stored at
+// k - first_stored_frame.
 struct FactorGraph {
-  std::vector<PoseBlock> camera_poses;  // T_world_camera per frame
-  std::vector<PointVariable> points;
-  std::vector<MotionVariable> motions;
-  std::vector<FrameFactors> frames;
-  std::vector<ObjectTransition> transitions;
+  std::unordered_map<int, PointVariable> points;
+  std::unordered_map<int, MotionVariable> motions;
+  std::deque<PoseBlock> camera_poses;  // T_world_camera per stored frame
+  std::deque<FrameFactors> frames;
+  std::deque<ObjectTransition> transitions;  // in frame order
+  int first_stored_frame = 0;
+  int next_point_id = 0;
+  int next_motion_id = 0;
   SE3 T_world_camera0_prior;
   Vec6 prior_sigma = Vec6::Constant(1e-4);
 
-  int numFrames() const { return static_cast<int>(frames.size()); }
+  int numFrames() const { return first_stored_frame + static_cast<int>(frames.size()); }
+  double* camera(int k) { return camera_poses[k - first_stored_frame].data(); }
+  const double* camera(int k) const { return camera_poses[k - first_stored_frame].data(); }
+  FrameFactors& frame(int k) { return frames[k - first_stored_frame]; }
+  const FrameFactors& frame(int k) const { return frames[k - first_stored_frame]; }
+  // Drops every stored frame before k (their variables must have been retired or marginalised).
+  void retireFramesBefore(int k) {
+    while (first_stored_frame < k && !frames.empty()) {
+      frames.pop_front();
+      camera_poses.pop_front();
+      ++first_stored_frame;
+    }
+  }
 };
 
 }  // namespace dslam

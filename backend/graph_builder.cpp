@@ -26,17 +26,15 @@ int GraphBuilder::newPointVariable(const Vec3& p_world, int64_t track_id, int ob
   var.object_id = object_id;
   var.first_frame = frame;
   var.last_frame = frame;
-  var.eliminate_first = prev_var < 0 ? true : !graph_->points[prev_var].eliminate_first;
-  graph_->points.push_back(var);
-  return static_cast<int>(graph_->points.size()) - 1;
+  var.eliminate_first = prev_var < 0 ? true : !graph_->points.at(prev_var).eliminate_first;
+  const int id = graph_->next_point_id++;
+  graph_->points.emplace(id, var);
+  return id;
 }
 
 void GraphBuilder::addMeasurement(int frame, int point_var, const Vec3& z_camera) {
-  auto& measurements = graph_->frames[frame].measurements;
-  PointVariable& var = graph_->points[point_var];
-  var.last_frame = frame;
-  var.observations.emplace_back(frame, static_cast<int>(measurements.size()));
-  measurements.push_back({point_var, z_camera, pointSigma(z_camera)});
+  graph_->points.at(point_var).last_frame = frame;
+  graph_->frame(frame).measurements.push_back({point_var, z_camera, pointSigma(z_camera)});
 }
 
 void GraphBuilder::addFrame(const FrameMeasurement& frame, const SE3* T_world_camera_init) {
@@ -52,7 +50,7 @@ void GraphBuilder::addFrame(const FrameMeasurement& frame, const SE3* T_world_ca
   } else if (k == 0) {
     T_world_camera = graph_->T_world_camera0_prior;
   } else {
-    T_world_camera = BlockToPose(graph_->camera_poses[k - 1].data());
+    T_world_camera = BlockToPose(graph_->camera(k - 1));
     if (frame.camera_motion_guess)
       T_world_camera = T_world_camera * *frame.camera_motion_guess;
     else if (frame.odometry)
@@ -69,6 +67,8 @@ void GraphBuilder::addFrame(const FrameMeasurement& frame, const SE3* T_world_ca
   if (options_.use_static_points) {
     for (const auto& obs : frame.static_points) {
       auto [it, is_new] = static_track_to_var_.try_emplace(obs.track_id, -1);
+      // A landmark retired by the smoother (unseen for a whole window) starts a new variable.
+      if (!is_new && !graph_->points.count(it->second)) is_new = true;
       if (is_new) it->second = newPointVariable(T_world_camera * obs.p_camera, obs.track_id, -1, k, -1);
       addMeasurement(k, it->second, obs.p_camera);
     }
@@ -126,8 +126,8 @@ void GraphBuilder::addDynamicTransition(const ObjectObservation& obs, int frame,
   std::vector<size_t> pair_index;
   for (size_t i = 0; i < obs.points.size(); ++i) {
     if (prev_vars[i] < 0) continue;
-    src.push_back(ToVec3(graph_->points[prev_vars[i]].p_world));
-    dst.push_back(ToVec3(graph_->points[curr_vars[i]].p_world));
+    src.push_back(ToVec3(graph_->points.at(prev_vars[i]).p_world));
+    dst.push_back(ToVec3(graph_->points.at(curr_vars[i]).p_world));
     pair_index.push_back(i);
   }
   RansacParams ransac = params_.motion_ransac;
@@ -140,9 +140,10 @@ void GraphBuilder::addDynamicTransition(const ObjectObservation& obs, int frame,
     return;
   }
 
-  FrameFactors& factors = graph_->frames[frame];
+  FrameFactors& factors = graph_->frame(frame);
   const MotionMode mode = params_.modeFor(obs.object_id);
   int motion_var = mode == MotionMode::kConstant ? state.constant_motion_var : -1;
+  if (motion_var >= 0 && !graph_->motions.count(motion_var)) motion_var = -1;  // retired by the smoother
   if (motion_var < 0) {
     // Anchor: the centroid of the RANSAC inliers at k-1, a point on the object.
     Vec3 anchor = Vec3::Zero();
@@ -154,18 +155,18 @@ void GraphBuilder::addDynamicTransition(const ObjectObservation& obs, int frame,
     var.H_anchor = MotionVariable::AnchorBlock(fit->transform, anchor);
     var.object_id = obs.object_id;
     var.first_frame = frame;
-    graph_->motions.push_back(var);
-    motion_var = static_cast<int>(graph_->motions.size()) - 1;
+    motion_var = graph_->next_motion_id++;
+    graph_->motions.emplace(motion_var, var);
     if (mode == MotionMode::kConstant) state.constant_motion_var = motion_var;
   }
-  graph_->motions[motion_var].last_frame = frame;
+  graph_->motions.at(motion_var).last_frame = frame;
   if (mode == MotionMode::kSmoothed && state.last_motion_var >= 0)
-    factors.smoothness.push_back({state.last_motion_var, motion_var});
+    factors.smoothness.push_back({state.last_motion_var, motion_var, {}, Vec3::Zero()});
 
   for (size_t j = 0; j < pair_index.size(); ++j) {
     if (!fit->is_inlier[j]) continue;
     const size_t i = pair_index[j];
-    factors.point_motions.push_back({prev_vars[i], curr_vars[i], motion_var});
+    factors.point_motions.push_back({prev_vars[i], curr_vars[i], motion_var, Vec3::Zero(), Mat3::Zero()});
     transition.prev_point_vars.push_back(prev_vars[i]);
   }
   transition.motion_var = motion_var;

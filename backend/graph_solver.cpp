@@ -30,7 +30,7 @@ SolveSummary SolveGraph(const BackendParams& params, const SolveOptions& options
 
   std::unordered_set<int> camera_blocks, point_blocks, motion_blocks;
   auto camera = [&](int k) {
-    double* block = graph->camera_poses[k].data();
+    double* block = graph->camera(k);
     if (camera_blocks.insert(k).second) {
       problem.AddParameterBlock(block, kPoseBlockSize, pose_manifold.get());
       if (k < first || options.fix_cameras) problem.SetParameterBlockConstant(block);
@@ -38,18 +38,18 @@ SolveSummary SolveGraph(const BackendParams& params, const SolveOptions& options
     return block;
   };
   auto point = [&](int v) {
-    double* block = graph->points[v].p_world.data();
+    double* block = graph->points.at(v).p_world.data();
     if (point_blocks.insert(v).second) {
       problem.AddParameterBlock(block, 3);
-      if (graph->points[v].last_frame < first) problem.SetParameterBlockConstant(block);
+      if (graph->points.at(v).last_frame < first) problem.SetParameterBlockConstant(block);
     }
     return block;
   };
   auto motion = [&](int m) {
-    double* block = graph->motions[m].H_anchor.data();
+    double* block = graph->motions.at(m).H_anchor.data();
     if (motion_blocks.insert(m).second) {
       problem.AddParameterBlock(block, kPoseBlockSize, pose_manifold.get());
-      if (graph->motions[m].last_frame < first) problem.SetParameterBlockConstant(block);
+      if (graph->motions.at(m).last_frame < first) problem.SetParameterBlockConstant(block);
     }
     return block;
   };
@@ -58,7 +58,7 @@ SolveSummary SolveGraph(const BackendParams& params, const SolveOptions& options
     problem.AddResidualBlock(PosePriorFactor::Create(graph->T_world_camera0_prior, graph->prior_sigma), nullptr,
                              camera(0));
   for (int k = first; k <= last; ++k) {
-    const FrameFactors& factors = graph->frames[k];
+    const FrameFactors& factors = graph->frame(k);
     if (factors.odometry && k > 0 && !options.fix_cameras)
       problem.AddResidualBlock(OdometryFactor::Create(factors.odometry->T_prev_curr, factors.odometry->sigma), nullptr,
                                camera(k - 1), camera(k));
@@ -67,28 +67,14 @@ SolveSummary SolveGraph(const BackendParams& params, const SolveOptions& options
                                point(m.point_var));
     for (const auto& m : factors.point_motions)
       problem.AddResidualBlock(PointMotionFactor::Create(params.noise.motion_sigma_m,
-                                                         graph->motions[m.motion_var].anchor_world),
+                                                         graph->motions.at(m.motion_var).anchor_world),
                                &huber, point(m.prev_point_var), point(m.curr_point_var), motion(m.motion_var));
     Vec6 smooth_sigma;
     smooth_sigma << Vec3::Constant(params.noise.smoothness_sigma_t_m), Vec3::Constant(params.noise.smoothness_sigma_r_rad);
     for (const auto& s : factors.smoothness)
-      problem.AddResidualBlock(MotionSmoothnessFactor::Create(smooth_sigma, graph->motions[s.prev_motion_var].anchor_world,
-                                                              graph->motions[s.curr_motion_var].anchor_world),
+      problem.AddResidualBlock(MotionSmoothnessFactor::Create(smooth_sigma, graph->motions.at(s.prev_motion_var).anchor_world,
+                                                              graph->motions.at(s.curr_motion_var).anchor_world),
                                nullptr, motion(s.prev_motion_var), motion(s.curr_motion_var));
-  }
-  // Window anchoring: older observations of the window's landmarks, against the fixed older cameras.
-  const int history_start = std::max(0, first - options.history_frames);
-  std::vector<int> window_points(point_blocks.begin(), point_blocks.end());
-  for (int v : window_points) {
-    const PointVariable& var = graph->points[v];
-    if (var.first_frame >= first || var.last_frame < first) continue;
-    for (const auto& [frame, index] : var.observations) {
-      if (frame >= first) break;
-      if (frame < history_start) continue;
-      const PointMeasurementEntry& m = graph->frames[frame].measurements[index];
-      problem.AddResidualBlock(PointMeasurementFactor::Create(m.z_camera, m.sigma_m), &huber, camera(frame),
-                               point(v));
-    }
   }
   result.num_residual_blocks = problem.NumResidualBlocks();
   if (result.num_residual_blocks == 0) return result;
@@ -99,9 +85,9 @@ SolveSummary SolveGraph(const BackendParams& params, const SolveOptions& options
   const bool schur = params.linear_solver == LinearSolver::kSchur;
   auto* ordering = new ceres::ParameterBlockOrdering;
   for (int v : point_blocks)
-    ordering->AddElementToGroup(graph->points[v].p_world.data(), !schur || graph->points[v].eliminate_first ? 0 : 1);
-  for (int k : camera_blocks) ordering->AddElementToGroup(graph->camera_poses[k].data(), 1);
-  for (int m : motion_blocks) ordering->AddElementToGroup(graph->motions[m].H_anchor.data(), 1);
+    ordering->AddElementToGroup(graph->points.at(v).p_world.data(), !schur || graph->points.at(v).eliminate_first ? 0 : 1);
+  for (int k : camera_blocks) ordering->AddElementToGroup(graph->camera(k), 1);
+  for (int m : motion_blocks) ordering->AddElementToGroup(graph->motions.at(m).H_anchor.data(), 1);
 
   ceres::Solver::Options solver_options;
   solver_options.linear_solver_type = schur ? ceres::SPARSE_SCHUR : ceres::SPARSE_NORMAL_CHOLESKY;

@@ -1,7 +1,8 @@
 #pragma once
-// Builds a Ceres problem from the factors of frames [first_frame, last_frame] and solves it in place.
-// Variables only observed before first_frame are held constant (the sliding window's fixed past);
-// the prior on the first camera is included when the range starts at frame 0.
+// The batch schedule: builds a Ceres problem from the factors of frames [first_frame, last_frame] and
+// solves it in place. Variables only observed before first_frame are held constant; the prior on the
+// first camera is included when the range starts at frame 0. (The online schedule is the fixed-lag
+// smoother, backend/fixed_lag_smoother.h.)
 
 #include "backend/backend_params.h"
 #include "backend/factor_graph.h"
@@ -13,9 +14,8 @@ struct SolveOptions {
   int last_frame = 0;
   int max_iterations = 50;
   int num_threads = 1;
-  bool fix_cameras = false;
-  int history_frames = 0;  // see BackendParams::window_history_frames
-  double function_tolerance = 1e-6;  // SLAM+MOT's object stage: camera poses come from the static stage
+  bool fix_cameras = false;  // SLAM+MOT's object stage: camera poses come from the static stage
+  double function_tolerance = 1e-6;
 };
 
 struct SolveSummary {

@@ -9,6 +9,13 @@
 namespace dslam {
 namespace {
 
+struct NullSink : EstimateSink {
+  void cameraFinal(int frame, const SE3&) override { EXPECT_EQ(frame, cameras++); }
+  void motionFinal(const ObjectMotionEstimate&) override {}
+  void pointFinal(const PointEstimate&) override {}
+  int cameras = 0;
+};
+
 std::vector<FrameMeasurement> Labelled(const Sequence& seq) {
   std::vector<FrameMeasurement> frames = seq.frames;
   LabelDynamicObjects(ClassifierParams{}, seq.frame_rate_hz, &frames);
@@ -99,34 +106,42 @@ TEST(Estimator, StaticTransitionsShareVariablesAndDynamicOnesChainThem) {
   // Schur elimination group: no factor may link two points of the first group.
   for (const auto& frame : g.frames)
     for (const auto& m : frame.point_motions)
-      EXPECT_FALSE(g.points[m.prev_point_var].eliminate_first && g.points[m.curr_point_var].eliminate_first);
+      EXPECT_FALSE(g.points.at(m.prev_point_var).eliminate_first && g.points.at(m.curr_point_var).eliminate_first);
 }
 
-TEST(GraphSolver, SlidingWindowProblemSizeDoesNotGrowWithSequenceLength) {
+TEST(FixedLagSmoother, ProblemSizeAndStoredGraphDoNotGrowWithSequenceLength) {
   ScenarioOptions opt;
   opt.num_frames = 100 + kCityCycleFrames + 1;
   const Sequence seq = MakeScenario("city", opt);
-  const BackendParams params;
-  FactorGraph graph;
-  GraphBuilder builder(params, BuilderOptions{}, &graph);
+  BackendParams params;
+  params.schedule = {ScheduleKind::kSlidingWindow, 10};
+  NullSink discard;
+  EstimatorOptions options;
+  options.sink = &discard;
+  Estimator estimator(params, seq.frame_rate_hz, options);
   const auto frames = Labelled(seq);
-  std::vector<int> sizes;
+  struct Size {
+    int residual_blocks, points, motions, frames;
+  };
+  std::vector<Size> sizes;
   for (size_t k = 0; k < frames.size(); ++k) {
-    builder.addFrame(frames[k]);
+    estimator.addFrame(frames[k]);
     if (k == 100 || k == 100 + kCityCycleFrames) {
-      SolveOptions window;
-      window.first_frame = static_cast<int>(k) - 9;
-      window.last_frame = static_cast<int>(k);
-      window.max_iterations = 1;
-      window.history_frames = params.window_history_frames;
-      sizes.push_back(SolveGraph(params, window, &graph).num_residual_blocks);
+      const FactorGraph& g = estimator.graph();
+      sizes.push_back({estimator.solveResidualBlocks().back(), static_cast<int>(g.points.size()),
+                       static_cast<int>(g.motions.size()), static_cast<int>(g.frames.size())});
     }
   }
   ASSERT_EQ(sizes.size(), 2u);
-  EXPECT_GT(sizes[0], 0);
+  EXPECT_GT(sizes[0].residual_blocks, 0);
   // The city repeats every cycle: frame 100 of the second cycle has the same window, and a
-  // sequence-length-dependent cost would show here.
-  EXPECT_LT(std::abs(sizes[1] - sizes[0]), 0.02 * sizes[0]) << sizes[0] << " vs " << sizes[1];
+  // sequence-length-dependent cost or storage would show here.
+  EXPECT_LT(std::abs(sizes[1].residual_blocks - sizes[0].residual_blocks), 0.02 * sizes[0].residual_blocks);
+  EXPECT_LT(std::abs(sizes[1].points - sizes[0].points), 0.02 * sizes[0].points);
+  EXPECT_EQ(sizes[1].motions, sizes[0].motions);
+  EXPECT_EQ(sizes[0].frames, 11);  // the window and its anchor camera
+  EXPECT_EQ(sizes[1].frames, 11);
+  EXPECT_EQ(discard.cameras, static_cast<int>(frames.size()) - 10);
 }
 
 }  // namespace

@@ -1,0 +1,43 @@
+#pragma once
+// What leaves the fixed-lag smoother's window, and how its information stays behind.
+//
+// The smoother keeps two windows ending at the newest frame k: cameras and static structure over the
+// last W frames, per-frame object points and object motions over the last L <= W (the object window).
+// When a frame leaves a window its variables are eliminated and their factors folded into priors on
+// what they were connected to, linearised at the leaving variables' last estimates. The fold is
+// sparsified: correlations that would couple many in-window variables through one leaving variable
+// are dropped, so that every prior keeps the graph's structure (and the solver's cost) unchanged:
+//  - a leaving frame's measurement of a landmark that is still observed becomes part of a Gaussian
+//    prior on that landmark (camera at its estimate): the landmark keeps everything it was ever seen
+//    from, at the cost of one 3x3 prior;
+//  - a per-frame object point leaving the object window is marginalised (its measurement with the
+//    camera at its estimate, the factor from its own predecessor with the motion at its estimate):
+//    the ternary factor to its successor becomes a binary factor on (successor, H) whose noise
+//    includes the point's marginal covariance, so an object point carries its whole history like a
+//    Kalman filter would;
+//  - a leaving camera is held at its final estimate in the odometry factor to the next camera (the
+//    window's anchor), a leaving motion likewise in the smoothness factor to the next motion.
+// Final estimates are handed to the sink as they leave.
+
+#include "backend/backend_params.h"
+#include "backend/estimate.h"
+#include "backend/factor_graph.h"
+
+namespace dslam {
+
+// The estimate of one object transition from the graph's current values (velocity from the centroid
+// of the tracks at k-1: the frozen one once those variables left the window).
+ObjectMotionEstimate MotionEstimateOf(const FactorGraph& graph, const ObjectTransition& transition,
+                                      double frame_rate_hz);
+
+// Frame m leaves the object window: its per-frame object points are marginalised, its transitions'
+// motions are final (sent to the sink) and motions no longer referenced are retired.
+void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, int m, FactorGraph* graph,
+                            EstimateSink* sink);
+
+// Frame m leaves the camera window: its camera is final, its remaining measurements are folded into
+// their landmarks' priors (or retired with the landmark), and frames before m are dropped (camera m
+// stays, held constant, as the anchor of the next window).
+void MarginaliseCameraFrame(const BackendParams& params, int m, FactorGraph* graph, EstimateSink* sink);
+
+}  // namespace dslam

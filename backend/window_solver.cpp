@@ -1,0 +1,403 @@
+#include "backend/window_solver.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+#include <numeric>
+#include <unordered_map>
+#include <vector>
+
+#include "backend/factors/analytic_jacobians.h"
+#include "backend/factors/motion_smoothness_factor.h"
+#include "backend/factors/pose_prior_factor.h"
+#include "backend/factors/relative_pose_residual.h"
+
+namespace dslam {
+namespace {
+
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using MatX = Eigen::MatrixXd;
+using VecX = Eigen::VectorXd;
+
+void PlusPose(const double* block, const Vec6& delta, double* out) {
+  const Eigen::Map<const Eigen::Quaterniond> q(block);
+  Eigen::Map<Eigen::Quaterniond> q_out(out);
+  q_out = (q * RotationExp(delta.tail<3>())).normalized();
+  for (int i = 0; i < 3; ++i) out[4 + i] = block[4 + i] + delta[i];
+}
+
+Mat3 RotationOf(const double* block) { return Eigen::Map<const Eigen::Quaterniond>(block).toRotationMatrix(); }
+Vec3 TranslationOf(const double* block) { return Vec3(block[4], block[5], block[6]); }
+
+// Huber on the squared whitened norm s, as Ceres' HuberLoss: rho(s) = s (s <= d^2), 2 d sqrt(s) - d^2.
+struct Huber {
+  double delta;
+  double rho(double s) const { return s <= delta * delta ? s : 2.0 * delta * std::sqrt(s) - delta * delta; }
+  // sqrt(rho'(s)): residual and Jacobian scale of iteratively reweighted least squares.
+  double sqrtWeight(double s) const { return s <= delta * delta ? 1.0 : std::sqrt(delta / std::sqrt(s)); }
+};
+
+struct Measurement {
+  int pose;  // pose-block index, -1: camera held constant
+  int point;
+  const double* camera;
+  Vec3 z;
+  Vec3 inv_sigma;
+};
+
+struct PointMotion {
+  int prev;  // point index, -1: marginalised (prev_mean)
+  int curr;
+  int motion;  // pose-block index
+  Vec3 prev_mean;
+  Mat3 S;
+  Vec3 anchor;
+};
+
+// Odometry, first-camera prior and smoothness: few, 6-dim, differentiated numerically on the manifold.
+struct PoseFactor {
+  int a = -1, b = -1;  // pose-block indices; -1: the constant block below (or absent for a unary factor)
+  const double* a_fixed = nullptr;
+  std::function<void(const double*, const double*, double*)> residual;
+};
+
+struct Group {
+  std::vector<int> points;
+  std::vector<int> measurements;
+  std::vector<int> motions;
+  // Elimination results of the current linearisation: dp = -(y + Y dx_local).
+  std::vector<int> poses;  // local pose index -> pose-block index
+  MatX Y;
+  VecX y;
+};
+
+class WindowProblem {
+ public:
+  WindowProblem(const BackendParams& params, const WindowSolveOptions& options, FactorGraph* graph)
+      : params_(params), huber_{params.noise.huber_delta} {
+    const int first = options.first_frame, last = options.last_frame;
+    auto point_index = [&](int id) {
+      auto [it, is_new] = point_index_.try_emplace(id, static_cast<int>(points_.size()));
+      if (is_new) points_.push_back(&graph->points.at(id));
+      return it->second;
+    };
+    if (!options.fix_cameras)
+      for (int k = first; k <= last; ++k) poses_.push_back(graph->camera(k));
+    const int num_cameras = static_cast<int>(poses_.size());
+    auto camera_index = [&](int k) { return options.fix_cameras || k < first ? -1 : k - first; };
+    auto motion_index = [&](int id) {
+      auto [it, is_new] = motion_index_.try_emplace(id, static_cast<int>(poses_.size()));
+      if (is_new) {
+        poses_.push_back(graph->motions.at(id).H_anchor.data());
+        motion_anchor_.push_back(graph->motions.at(id).anchor_world);
+      }
+      return it->second;
+    };
+    const double inv_motion_sigma = 1.0 / params.noise.motion_sigma_m;
+    Vec6 smooth_sigma;
+    smooth_sigma << Vec3::Constant(params.noise.smoothness_sigma_t_m), Vec3::Constant(params.noise.smoothness_sigma_r_rad);
+
+    if (first == 0 && !options.fix_cameras) {
+      PosePriorFactor prior(graph->T_world_camera0_prior, graph->prior_sigma);
+      pose_factors_.push_back({0, -1, nullptr, [prior](const double* a, const double*, double* r) { prior(a, r); }});
+    }
+    for (int k = first; k <= last; ++k) {
+      const FrameFactors& f = graph->frame(k);
+      if (f.odometry && k > 0 && !options.fix_cameras) {
+        RelativePoseResidual odo(f.odometry->T_prev_curr, f.odometry->sigma);
+        PoseFactor pf{camera_index(k - 1), camera_index(k), graph->camera(k - 1),
+                      [odo](const double* a, const double* b, double* r) { odo(a, b, r); }};
+        pose_factors_.push_back(pf);
+      }
+      for (const auto& m : f.measurements)
+        measurements_.push_back({camera_index(k), point_index(m.point_var), graph->camera(k), m.z_camera,
+                                 m.sigma_m.cwiseInverse()});
+      for (const auto& m : f.point_motions) {
+        const int h = motion_index(m.motion_var);
+        PointMotion pm{m.prev_point_var >= 0 ? point_index(m.prev_point_var) : -1, point_index(m.curr_point_var), h,
+                       m.prev_mean_world, m.prev_point_var >= 0 ? Mat3(Mat3::Identity() * inv_motion_sigma) : m.sqrt_info,
+                       motion_anchor_[h - num_cameras]};
+        motions_.push_back(pm);
+      }
+      for (const auto& s : f.smoothness) {
+        const int b = motion_index(s.curr_motion_var);
+        const bool prev_live = s.prev_motion_var >= 0;
+        const int a = prev_live ? motion_index(s.prev_motion_var) : -1;
+        const Vec3 anchor_prev = prev_live ? motion_anchor_[a - num_cameras] : s.prev_fixed_anchor;
+        MotionSmoothnessFactor smooth(smooth_sigma, anchor_prev, motion_anchor_[b - num_cameras]);
+        pose_factors_.push_back({a, b, prev_live ? nullptr : s.prev_fixed.data(),
+                                 [smooth](const double* x, const double* y, double* r) { smooth(x, y, r); }});
+      }
+    }
+    buildGroups();
+  }
+
+  int numResidualBlocks() const {
+    int n = static_cast<int>(measurements_.size() + motions_.size() + pose_factors_.size());
+    for (const PointVariable* p : points_) n += p->hasPrior() ? 1 : 0;
+    return n;
+  }
+  bool empty() const { return poses_.empty() && points_.empty(); }
+
+  double cost() const {
+    double c = 0.0;
+    for (const auto& m : measurements_) {
+      const double* cam = m.pose >= 0 ? poses_[m.pose] : m.camera;
+      const Vec3 r = PointMeasurementResidual(RotationOf(cam), TranslationOf(cam), point(m.point), m.z, m.inv_sigma,
+                                              nullptr, nullptr);
+      c += huber_.rho(r.squaredNorm());
+    }
+    for (const auto& m : motions_) {
+      const double* H = poses_[m.motion];
+      const Vec3 r = PointMotionResidual(RotationOf(H), TranslationOf(H), m.anchor, prevPoint(m), point(m.curr), m.S,
+                                         nullptr, nullptr, nullptr);
+      c += huber_.rho(r.squaredNorm());
+    }
+    for (const PointVariable* p : points_) {
+      if (!p->hasPrior()) continue;
+      const Vec3 x = Eigen::Map<const Vec3>(p->p_world.data());
+      const Vec3 mean = p->prior_info.ldlt().solve(p->prior_info_vec);
+      c += (x - mean).dot(p->prior_info * (x - mean));
+    }
+    for (const auto& f : pose_factors_) c += poseResidual(f, -1, Vec6::Zero()).squaredNorm();
+    return 0.5 * c;
+  }
+
+  // Builds and solves the damped normal equations; false when the reduced system is not positive definite.
+  bool computeStep(double lambda, VecX* dx, std::vector<Vec3>* dp) {
+    const int n = 6 * static_cast<int>(poses_.size());
+    MatX S = MatX::Zero(n, n);
+    VecX b = VecX::Zero(n);
+    VecX diag = VecX::Zero(n);  // undamped diagonal of the pose-pose block, for the damping
+    for (Group& g : groups_) eliminate(g, lambda, &S, &b, &diag);
+    for (const auto& f : pose_factors_) addPoseFactor(f, &S, &b, &diag);
+    for (int i = 0; i < n; ++i) S(i, i) += lambda * std::max(diag[i], 1e-9) + 1e-12;
+    Eigen::LLT<MatX> llt(S);
+    if (llt.info() != Eigen::Success) return false;
+    *dx = llt.solve(-b);
+    dp->assign(points_.size(), Vec3::Zero());
+    for (const Group& g : groups_) {
+      VecX dx_local(6 * g.poses.size());
+      for (size_t j = 0; j < g.poses.size(); ++j) dx_local.segment<6>(6 * j) = dx->segment<6>(6 * g.poses[j]);
+      const VecX d = -(g.y + g.Y * dx_local);
+      for (size_t i = 0; i < g.points.size(); ++i) (*dp)[g.points[i]] = d.segment<3>(3 * i);
+    }
+    return dx->allFinite();
+  }
+
+  // Applies a step; the previous values are kept for undo().
+  void apply(const VecX& dx, const std::vector<Vec3>& dp) {
+    saved_poses_.resize(poses_.size());
+    saved_points_.resize(points_.size());
+    for (size_t i = 0; i < poses_.size(); ++i) {
+      std::copy(poses_[i], poses_[i] + kPoseBlockSize, saved_poses_[i].begin());
+      PlusPose(saved_poses_[i].data(), dx.segment<6>(6 * i), poses_[i]);
+    }
+    for (size_t i = 0; i < points_.size(); ++i) {
+      saved_points_[i] = points_[i]->p_world;
+      for (int a = 0; a < 3; ++a) points_[i]->p_world[a] += dp[i][a];
+    }
+  }
+  void undo() {
+    for (size_t i = 0; i < poses_.size(); ++i) std::copy(saved_poses_[i].begin(), saved_poses_[i].end(), poses_[i]);
+    for (size_t i = 0; i < points_.size(); ++i) points_[i]->p_world = saved_points_[i];
+  }
+
+ private:
+  Vec3 point(int i) const { return Eigen::Map<const Vec3>(points_[i]->p_world.data()); }
+  Vec3 prevPoint(const PointMotion& m) const { return m.prev >= 0 ? point(m.prev) : m.prev_mean; }
+
+  // Point groups: connected components of the point-motion factors between two point variables.
+  void buildGroups() {
+    std::vector<int> parent(points_.size());
+    std::iota(parent.begin(), parent.end(), 0);
+    std::function<int(int)> find = [&](int i) { return parent[i] == i ? i : parent[i] = find(parent[i]); };
+    for (const auto& m : motions_)
+      if (m.prev >= 0) parent[find(m.prev)] = find(m.curr);
+    std::vector<int> group_of(points_.size(), -1);
+    for (size_t i = 0; i < points_.size(); ++i) {
+      const int root = find(static_cast<int>(i));
+      if (group_of[root] < 0) {
+        group_of[root] = static_cast<int>(groups_.size());
+        groups_.emplace_back();
+      }
+      group_of[i] = group_of[root];
+      groups_[group_of[i]].points.push_back(static_cast<int>(i));
+    }
+    local_index_.assign(points_.size(), 0);
+    for (const Group& g : groups_)
+      for (size_t j = 0; j < g.points.size(); ++j) local_index_[g.points[j]] = static_cast<int>(j);
+    for (size_t i = 0; i < measurements_.size(); ++i) groups_[group_of[measurements_[i].point]].measurements.push_back(i);
+    for (size_t i = 0; i < motions_.size(); ++i) groups_[group_of[motions_[i].curr]].motions.push_back(i);
+    for (Group& g : groups_) {
+      for (int i : g.measurements)
+        if (measurements_[i].pose >= 0) g.poses.push_back(measurements_[i].pose);
+      for (int i : g.motions) g.poses.push_back(motions_[i].motion);
+      std::sort(g.poses.begin(), g.poses.end());
+      g.poses.erase(std::unique(g.poses.begin(), g.poses.end()), g.poses.end());
+    }
+  }
+
+  // Linearises one point group and adds its Schur complement to the reduced pose system.
+  void eliminate(Group& g, double lambda, MatX* S, VecX* b, VecX* diag) {
+    const int np = 3 * static_cast<int>(g.points.size()), nx = 6 * static_cast<int>(g.poses.size());
+    auto local_pose = [&](int pose) {
+      return static_cast<int>(std::lower_bound(g.poses.begin(), g.poses.end(), pose) - g.poses.begin());
+    };
+    MatX Hpp = MatX::Zero(np, np), Hpx = MatX::Zero(np, nx), Hxx = MatX::Zero(nx, nx);
+    VecX gp = VecX::Zero(np), gx = VecX::Zero(nx);
+    Mat36 Jpose;
+    Mat3 Jl, Jprev, Jcurr;
+    for (int mi : g.measurements) {
+      const Measurement& m = measurements_[mi];
+      const double* cam = m.pose >= 0 ? poses_[m.pose] : m.camera;
+      Vec3 r = PointMeasurementResidual(RotationOf(cam), TranslationOf(cam), point(m.point), m.z, m.inv_sigma,
+                                        m.pose >= 0 ? &Jpose : nullptr, &Jl);
+      const double w = huber_.sqrtWeight(r.squaredNorm());
+      r *= w, Jl *= w, Jpose *= w;
+      const int i = 3 * local_index_[m.point];
+      Hpp.block<3, 3>(i, i) += Jl.transpose() * Jl;
+      gp.segment<3>(i) += Jl.transpose() * r;
+      if (m.pose >= 0) {
+        const int c = 6 * local_pose(m.pose);
+        Hpx.block<3, 6>(i, c) += Jl.transpose() * Jpose;
+        Hxx.block<6, 6>(c, c) += Jpose.transpose() * Jpose;
+        gx.segment<6>(c) += Jpose.transpose() * r;
+      }
+    }
+    for (int mi : g.motions) {
+      const PointMotion& m = motions_[mi];
+      const double* H = poses_[m.motion];
+      Vec3 r = PointMotionResidual(RotationOf(H), TranslationOf(H), m.anchor, prevPoint(m), point(m.curr), m.S, &Jprev,
+                                   &Jcurr, &Jpose);
+      const double w = huber_.sqrtWeight(r.squaredNorm());
+      r *= w, Jprev *= w, Jcurr *= w, Jpose *= w;
+      const int j = 3 * local_index_[m.curr], h = 6 * local_pose(m.motion);
+      Hpp.block<3, 3>(j, j) += Jcurr.transpose() * Jcurr;
+      gp.segment<3>(j) += Jcurr.transpose() * r;
+      Hpx.block<3, 6>(j, h) += Jcurr.transpose() * Jpose;
+      if (m.prev >= 0) {
+        const int i = 3 * local_index_[m.prev];
+        Hpp.block<3, 3>(i, i) += Jprev.transpose() * Jprev;
+        Hpp.block<3, 3>(i, j) += Jprev.transpose() * Jcurr;
+        Hpp.block<3, 3>(j, i) += Jcurr.transpose() * Jprev;
+        gp.segment<3>(i) += Jprev.transpose() * r;
+        Hpx.block<3, 6>(i, h) += Jprev.transpose() * Jpose;
+      }
+      Hxx.block<6, 6>(h, h) += Jpose.transpose() * Jpose;
+      gx.segment<6>(h) += Jpose.transpose() * r;
+    }
+    for (size_t j = 0; j < g.points.size(); ++j) {
+      const PointVariable* p = points_[g.points[j]];
+      if (!p->hasPrior()) continue;
+      const int i = 3 * static_cast<int>(j);
+      Hpp.block<3, 3>(i, i) += p->prior_info;
+      gp.segment<3>(i) += p->prior_info * point(g.points[j]) - p->prior_info_vec;
+    }
+    for (int i = 0; i < nx; ++i) (*diag)[6 * g.poses[i / 6] + i % 6] += Hxx(i, i);
+    for (int i = 0; i < np; ++i) Hpp(i, i) += lambda * Hpp(i, i) + 1e-12;
+    Eigen::LLT<MatX> llt(Hpp);
+    g.Y = llt.solve(Hpx);
+    g.y = llt.solve(gp);
+    Hxx.noalias() -= Hpx.transpose() * g.Y;
+    gx.noalias() -= Hpx.transpose() * g.y;
+    for (size_t a = 0; a < g.poses.size(); ++a) {
+      b->segment<6>(6 * g.poses[a]) += gx.segment<6>(6 * a);
+      for (size_t c = 0; c < g.poses.size(); ++c)
+        S->block<6, 6>(6 * g.poses[a], 6 * g.poses[c]) += Hxx.block<6, 6>(6 * a, 6 * c);
+    }
+  }
+
+  // Residual of a pose factor with block `perturbed` (0: a, 1: b, -1: none) moved by delta.
+  Vec6 poseResidual(const PoseFactor& f, int perturbed, const Vec6& delta) const {
+    std::array<double, kPoseBlockSize> a{}, b{};
+    const double* pa = f.a >= 0 ? poses_[f.a] : f.a_fixed;
+    const double* pb = f.b >= 0 ? poses_[f.b] : nullptr;
+    if (perturbed == 0) PlusPose(pa, delta, a.data()), pa = a.data();
+    if (perturbed == 1) PlusPose(pb, delta, b.data()), pb = b.data();
+    Vec6 r;
+    f.residual(pa, pb, r.data());
+    return r;
+  }
+
+  void addPoseFactor(const PoseFactor& f, MatX* S, VecX* b, VecX* diag) const {
+    const Vec6 r = poseResidual(f, -1, Vec6::Zero());
+    const int blocks[2] = {f.a, f.b};
+    Mat6 J[2];
+    const double h = 1e-7;
+    for (int which = 0; which < 2; ++which) {
+      if (blocks[which] < 0) continue;
+      for (int c = 0; c < 6; ++c) {
+        Vec6 d = Vec6::Zero();
+        d[c] = h;
+        const Vec6 plus = poseResidual(f, which, d);
+        d[c] = -h;
+        J[which].col(c) = (plus - poseResidual(f, which, d)) / (2.0 * h);
+      }
+    }
+    for (int i = 0; i < 2; ++i) {
+      if (blocks[i] < 0) continue;
+      b->segment<6>(6 * blocks[i]) += J[i].transpose() * r;
+      for (int j = 0; j < 2; ++j)
+        if (blocks[j] >= 0) S->block<6, 6>(6 * blocks[i], 6 * blocks[j]) += J[i].transpose() * J[j];
+      diag->segment<6>(6 * blocks[i]) += J[i].colwise().squaredNorm().transpose();
+    }
+  }
+
+  const BackendParams& params_;
+  Huber huber_;
+  std::vector<double*> poses_;  // cameras first, then motions
+  std::vector<Vec3> motion_anchor_;
+  std::unordered_map<int, int> motion_index_, point_index_;
+  std::vector<PointVariable*> points_;
+  std::vector<Measurement> measurements_;
+  std::vector<PointMotion> motions_;
+  std::vector<PoseFactor> pose_factors_;
+  std::vector<Group> groups_;
+  std::vector<int> local_index_;
+  std::vector<PoseBlock> saved_poses_;
+  std::vector<std::array<double, 3>> saved_points_;
+};
+
+}  // namespace
+
+WindowSolveSummary SolveWindow(const BackendParams& params, const WindowSolveOptions& options, FactorGraph* graph) {
+  WindowSolveSummary summary;
+  if (options.last_frame < options.first_frame) return summary;
+  WindowProblem problem(params, options, graph);
+  summary.num_residual_blocks = problem.numResidualBlocks();
+  if (problem.empty() || summary.num_residual_blocks == 0) return summary;
+
+  double cost = problem.cost();
+  summary.initial_cost = summary.final_cost = cost;
+  double lambda = 1e-4;  // as Ceres' default initial trust region (radius 1e4)
+  Eigen::VectorXd dx;
+  std::vector<Vec3> dp;
+  for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
+    ++summary.num_iterations;
+    if (!problem.computeStep(lambda, &dx, &dp)) {
+      lambda *= 10.0;
+      continue;
+    }
+    problem.apply(dx, dp);
+    const double new_cost = problem.cost();
+    if (!(new_cost < cost)) {
+      problem.undo();
+      lambda *= 10.0;
+      if (lambda > 1e8) break;
+      continue;
+    }
+    const double decrease = (cost - new_cost) / std::max(cost, 1e-300);
+    cost = new_cost;
+    lambda = std::max(lambda / 3.0, 1e-10);
+    if (decrease < options.function_tolerance) break;
+  }
+  summary.final_cost = cost;
+  return summary;
+}
+
+}  // namespace dslam

@@ -1,0 +1,37 @@
+#pragma once
+// The fixed-lag smoother's solver: Levenberg-Marquardt over the factors of frames [first_frame,
+// last_frame] of a FactorGraph, solved in place, with the problem's structure exploited by hand.
+//
+// Why not Ceres here: profiled on bench_window_solve, 44 % of a Ceres window solve was Eigen's scalar
+// simplicial LDLT (CHOLMOD with the system's BLAS was slower still) and the rest building the problem
+// again every frame. The structure is simple enough to eliminate directly:
+//  - point variables form small groups: a static landmark alone, or an object point's per-frame
+//    variables chained by the ternary factor (as long as the smoother's object window);
+//  - each group is eliminated densely (a few 3x3 blocks) into a Schur complement over the pose-like
+//    blocks it touches (cameras and object motions), analytic Jacobians throughout;
+//  - what remains, the window's cameras and motions (a few hundred dimensions), is solved densely.
+// The camera before first_frame, when stored, is held constant (its odometry factor anchors the window).
+
+#include "backend/backend_params.h"
+#include "backend/factor_graph.h"
+
+namespace dslam {
+
+struct WindowSolveOptions {
+  int first_frame = 0;
+  int last_frame = 0;
+  int max_iterations = 10;
+  double function_tolerance = 1e-4;  // stop when the cost falls by less than this fraction
+  bool fix_cameras = false;          // SLAM+MOT's object stage: camera poses come from the static stage
+};
+
+struct WindowSolveSummary {
+  int num_residual_blocks = 0;
+  int num_iterations = 0;
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+};
+
+WindowSolveSummary SolveWindow(const BackendParams& params, const WindowSolveOptions& options, FactorGraph* graph);
+
+}  // namespace dslam
