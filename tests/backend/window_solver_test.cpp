@@ -1,0 +1,130 @@
+#include "backend/window_solver.h"
+
+#include <gtest/gtest.h>
+
+#include "backend/graph_builder.h"
+#include "backend/graph_solver.h"
+#include "backend/marginalisation.h"
+#include "frontend/dynamic_object_classifier.h"
+#include "simulation/scenarios.h"
+
+namespace dslam {
+namespace {
+
+FactorGraph CityGraph(int frames, const BackendParams& params) {
+  ScenarioOptions opt;
+  opt.num_frames = frames;
+  const Sequence seq = MakeScenario("city", opt);
+  std::vector<FrameMeasurement> labelled = seq.frames;
+  LabelDynamicObjects(ClassifierParams{}, seq.frame_rate_hz, &labelled);
+  FactorGraph graph;
+  GraphBuilder builder(params, BuilderOptions{}, &graph);
+  for (const auto& f : labelled) builder.addFrame(f);
+  return graph;
+}
+
+TEST(WindowSolver, ReachesTheSameMinimumAsCeres) {
+  BackendParams params;
+  params.default_mode = MotionMode::kSmoothed;
+  FactorGraph ceres_graph = CityGraph(8, params);
+  FactorGraph ours = ceres_graph;
+  SolveOptions batch;
+  batch.last_frame = 7;
+  batch.max_iterations = 100;
+  batch.function_tolerance = 1e-12;
+  SolveGraph(params, batch, &ceres_graph);
+  WindowSolveOptions window;
+  window.last_frame = 7;
+  window.max_iterations = 100;
+  window.function_tolerance = 1e-12;
+  const WindowSolveSummary summary = SolveWindow(params, window, &ours);
+  EXPECT_LT(summary.final_cost, summary.initial_cost);
+  for (int k = 0; k < 8; ++k)
+    EXPECT_TRUE(BlockToPose(ours.camera(k)).isApprox(BlockToPose(ceres_graph.camera(k)), 1e-6)) << k;
+  ASSERT_FALSE(ours.motions.empty());
+  for (const auto& [id, m] : ours.motions)
+    EXPECT_TRUE(m.worldMotion().isApprox(ceres_graph.motions.at(id).worldMotion(), 1e-6)) << id;
+}
+
+TEST(WindowSolver, HeldCamerasDoNotMove) {
+  BackendParams params;
+  FactorGraph graph = CityGraph(5, params);
+  const FactorGraph before = graph;
+  WindowSolveOptions window;
+  window.last_frame = 4;
+  window.fix_cameras = true;
+  SolveWindow(params, window, &graph);
+  for (int k = 0; k < 5; ++k) EXPECT_TRUE(BlockToPose(graph.camera(k)).isApprox(BlockToPose(before.camera(k)), 0.0));
+}
+
+struct Recorder : EstimateSink {
+  void cameraFinal(int frame, const SE3&) override { cameras.push_back(frame); }
+  void motionFinal(const ObjectMotionEstimate& m) override { motions.push_back(m); }
+  void pointFinal(const PointEstimate& p) override { points.push_back(p); }
+  std::vector<int> cameras;
+  std::vector<ObjectMotionEstimate> motions;
+  std::vector<PointEstimate> points;
+};
+
+TEST(Marginalisation, ALeavingMeasurementBecomesTheLandmarksPriorAndTheCameraIsFinal) {
+  BackendParams params;
+  FactorGraph graph;
+  GraphBuilder builder(params, BuilderOptions{}, &graph);
+  const SE3 T1(RotationExp(Vec3(0.0, 0.1, 0.0)), Vec3(0.5, 0.0, 1.0));
+  const Vec3 landmark(1.0, -0.5, 10.0);
+  FrameMeasurement f0, f1;
+  f0.static_points = {{7, landmark}};
+  f1.frame_index = 1;
+  f1.odometry = OdometryMeasurement{T1, Vec6::Constant(0.01)};
+  f1.static_points = {{7, T1.inverse() * landmark}};
+  builder.addFrame(f0);
+  builder.addFrame(f1);
+  Recorder sink;
+  MarginaliseCameraFrame(params, 0, &graph, &sink);
+  ASSERT_EQ(sink.cameras, std::vector<int>{0});
+  ASSERT_EQ(sink.points.size(), 1u);
+  EXPECT_EQ(sink.points[0].track_id, 7);
+  ASSERT_EQ(graph.points.size(), 1u);  // still seen by frame 1
+  const PointVariable& p = graph.points.begin()->second;
+  // Camera 0 at the identity: information diag(1/sigma^2), mean at the measured point.
+  const double w = 1.0 / (params.noise.point_sigma_m * params.noise.point_sigma_m);
+  EXPECT_TRUE(p.prior_info.isApprox(w * Mat3::Identity(), 1e-12));
+  EXPECT_TRUE(p.prior_info.ldlt().solve(p.prior_info_vec).isApprox(landmark, 1e-12));
+  EXPECT_TRUE(graph.frame(0).measurements.empty());
+  EXPECT_EQ(graph.first_stored_frame, 0);  // camera 0 stays as the next window's anchor
+}
+
+TEST(Marginalisation, ObjectPointsLeaveAndTheirSuccessorsFactorsCarryTheirCovariance) {
+  BackendParams params;
+  params.default_mode = MotionMode::kPerStep;
+  FactorGraph graph = CityGraph(6, params);
+  int ternaries_before = 0;
+  for (const auto& pm : graph.frame(3).point_motions) ternaries_before += pm.prev_point_var >= 0;
+  ASSERT_GT(ternaries_before, 10);
+  Recorder sink;
+  for (int m = 0; m <= 2; ++m) MarginaliseObjectFrame(params, 10.0, m, &graph, &sink);
+  for (const auto& pm : graph.frame(3).point_motions) {
+    EXPECT_LT(pm.prev_point_var, 0);
+    // Noise of the binary factor: at least the rigidity sigma, plus the point's own covariance.
+    const Mat3 cov = (pm.sqrt_info.transpose() * pm.sqrt_info).inverse();
+    EXPECT_GT(cov.trace() / 3.0, params.noise.motion_sigma_m * params.noise.motion_sigma_m);
+  }
+  for (const auto& [id, var] : graph.points) EXPECT_FALSE(var.object_id >= 0 && var.first_frame == 2 && var.last_frame == 2);
+  // Transitions into frames 1 and 2 are final; those into 3 kept their centroid.
+  ASSERT_FALSE(sink.motions.empty());
+  for (const auto& m : sink.motions) EXPECT_LE(m.frame, 2);
+  for (const auto& tr : graph.transitions) {
+    EXPECT_GT(tr.frame, 2);
+    if (tr.frame == 3) EXPECT_TRUE(tr.centroid_prev_world.has_value());
+  }
+  for (const auto& [id, m] : graph.motions) EXPECT_GT(m.last_frame, 2);
+  // The solver accepts the converted graph.
+  WindowSolveOptions window;
+  window.first_frame = 1;
+  window.last_frame = 5;
+  const WindowSolveSummary summary = SolveWindow(params, window, &graph);
+  EXPECT_LE(summary.final_cost, summary.initial_cost);
+}
+
+}  // namespace
+}  // namespace dslam
