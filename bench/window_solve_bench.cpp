@@ -1,4 +1,5 @@
-// Per-frame cost of the sliding-window schedule on a long `city` run. The city repeats exactly every
+// Per-frame cost of the fixed-lag smoother (window schedule) on a long `city` run, one core: mean per
+// 100 frames, median and p99 after the first 100 frames. The city repeats exactly every
 // 300 frames, so frame 1000 sees the same scene as frame 100: the solve time around frame 100
 // (frames 90-109) and around frame 1000 (frames 990-1009) must be about equal.
 // Usage: bench_window_solve [frames=1100] [window=10]
@@ -9,6 +10,7 @@
 #include <numeric>
 
 #include "backend/estimator.h"
+#include "bench/percentile.h"
 #include "frontend/dynamic_object_classifier.h"
 #include "pipeline/run_config.h"
 #include "simulation/scenarios.h"
@@ -54,6 +56,9 @@ int main(int argc, char** argv) {
     const double t = Mean(ms, from, from + 100), b = Mean(sizes, from, from + 100), it = Mean(iterations, from, from + 100);
     std::printf("%4d-%-4d   %12.1f   %22.0f   %13.1f   %18.2f\n", from, from + 99, t, b, it, 1000.0 * t / (b * it));
   }
+  std::printf("solve ms/frame over frames 100-%d: median %.2f, p99 %.2f\n", frames - 1,
+              dslam::bench::Percentile(std::vector<double>(ms.begin() + 100, ms.end()), 0.5),
+              dslam::bench::Percentile(std::vector<double>(ms.begin() + 100, ms.end()), 0.99));
   std::cout << "around frame 100 (90-109): " << Mean(ms, 90, 110) << " ms/frame, " << Mean(sizes, 90, 110)
             << " residual blocks, " << Mean(iterations, 90, 110) << " iterations\n";
   if (frames >= 1010)
