@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <map>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -75,9 +76,14 @@ void WriteGroundTruthCentroids(const std::string& path, const Sequence& seq) {
 void WriteMapPoints(const std::string& path, const Estimate& est) {
   // Static structure once per landmark (its final estimate); dynamic points once per observation.
   std::ofstream out = OpenCsv(path, "frame,object_id,x,y,z");
-  std::set<int64_t> static_written;
-  for (const auto& p : est.points) {
-    if (p.object_id < 0 && !static_written.insert(p.track_id).second) continue;
+  // A landmark's observations arrive oldest first (a streaming smoother emits each as its frame leaves the
+  // window): its last one carries the final estimate.
+  std::map<int64_t, size_t> last_static;
+  for (size_t i = 0; i < est.points.size(); ++i)
+    if (est.points[i].object_id < 0) last_static[est.points[i].track_id] = i;
+  for (size_t i = 0; i < est.points.size(); ++i) {
+    const PointEstimate& p = est.points[i];
+    if (p.object_id < 0 && last_static.at(p.track_id) != i) continue;
     out << (p.object_id < 0 ? -1 : p.frame) << ',' << p.object_id << ',' << p.p_world.x() << ',' << p.p_world.y() << ','
         << p.p_world.z() << '\n';
   }
