@@ -73,7 +73,7 @@ void Estimator::flush() {
   for (int k = cameras_final_; k < graph_.numFrames(); ++k) {
     for (const auto& meas : graph_.frame(k).measurements) {
       const PointVariable& var = graph_.points.at(meas.point_var);
-      sink_->pointFinal({k, var.track_id, var.object_id, Vec3(var.p_world[0], var.p_world[1], var.p_world[2])});
+      sink_->pointFinal({k, var.track_id, var.object_id, var.position()});
     }
   }
   for (; cameras_final_ < graph_.numFrames(); ++cameras_final_)

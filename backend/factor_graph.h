@@ -31,6 +31,7 @@ struct PointVariable {
   Mat3 prior_info = Mat3::Zero();
   Vec3 prior_info_vec = Vec3::Zero();
   bool hasPrior() const { return prior_info.trace() > 0.0; }
+  Vec3 position() const { return Vec3(p_world[0], p_world[1], p_world[2]); }
 };
 
 // An object's pose change, stored about an anchor point c near the object (not about the world

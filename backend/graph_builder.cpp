@@ -5,10 +5,6 @@
 #include "backend/factors/pose_block.h"
 
 namespace dslam {
-namespace {
-Vec3 ToVec3(const std::array<double, 3>& a) { return Vec3(a[0], a[1], a[2]); }
-}  // namespace
-
 GraphBuilder::GraphBuilder(const BackendParams& params, const BuilderOptions& options, FactorGraph* graph)
     : params_(params), options_(options), graph_(graph) {
   graph_->prior_sigma = Vec6::Constant(params.noise.prior_sigma);
@@ -89,7 +85,7 @@ void GraphBuilder::addObject(const ObjectObservation& obs, int frame, const SE3&
 
   if (consecutive && !obs.is_dynamic) {
     // Static over k-1 -> k: the object's points keep their variables and act as static structure.
-    ObjectTransition transition{obs.object_id, frame, false, -1, {}};
+    ObjectTransition transition{obs.object_id, frame, false, -1, {}, std::nullopt};
     for (size_t i = 0; i < obs.points.size(); ++i) {
       if (prev_vars[i] >= 0) {
         curr_vars[i] = prev_vars[i];
@@ -121,13 +117,13 @@ void GraphBuilder::addObject(const ObjectObservation& obs, int frame, const SE3&
 
 void GraphBuilder::addDynamicTransition(const ObjectObservation& obs, int frame, ObjectTrackState& state,
                                         const std::vector<int>& prev_vars, const std::vector<int>& curr_vars) {
-  ObjectTransition transition{obs.object_id, frame, true, -1, {}};
+  ObjectTransition transition{obs.object_id, frame, true, -1, {}, std::nullopt};
   std::vector<Vec3> src, dst;
   std::vector<size_t> pair_index;
   for (size_t i = 0; i < obs.points.size(); ++i) {
     if (prev_vars[i] < 0) continue;
-    src.push_back(ToVec3(graph_->points.at(prev_vars[i]).p_world));
-    dst.push_back(ToVec3(graph_->points.at(curr_vars[i]).p_world));
+    src.push_back(graph_->points.at(prev_vars[i]).position());
+    dst.push_back(graph_->points.at(curr_vars[i]).position());
     pair_index.push_back(i);
   }
   RansacParams ransac = params_.motion_ransac;

@@ -2,23 +2,17 @@
 
 #include <Eigen/Cholesky>
 
-#include <cmath>
 #include <optional>
 #include <unordered_map>
 #include <unordered_set>
 
+#include "backend/factors/analytic_jacobians.h"
+#include "backend/factors/huber_loss.h"
 #include "backend/factors/pose_block.h"
 #include "geometry/velocity.h"
 
 namespace dslam {
 namespace {
-
-Vec3 ToVec3(const std::array<double, 3>& a) { return Vec3(a[0], a[1], a[2]); }
-
-// Squared IRLS weight of a whitened residual under the Huber loss (as the solver applies it).
-double HuberWeightSq(double squared_norm, double delta) {
-  return squared_norm <= delta * delta ? 1.0 : delta / std::sqrt(squared_norm);
-}
 
 std::optional<Vec3> Centroid(const FactorGraph& graph, const std::vector<int>& vars) {
   Vec3 sum = Vec3::Zero();
@@ -26,7 +20,7 @@ std::optional<Vec3> Centroid(const FactorGraph& graph, const std::vector<int>& v
   for (int v : vars) {
     const auto it = graph.points.find(v);
     if (it == graph.points.end()) continue;
-    sum += ToVec3(it->second.p_world);
+    sum += it->second.position();
     ++n;
   }
   if (n == 0) return std::nullopt;
@@ -36,11 +30,10 @@ std::optional<Vec3> Centroid(const FactorGraph& graph, const std::vector<int>& v
 // Information of a camera's measurement of a point, camera held at its estimate: the measurement is
 // linear in the point, r = W (R^T (l - t) - z), so it is exactly the Gaussian N(t + R z, (R W^2 R^T)^-1).
 Mat3 MeasurementInformation(const Mat3& R, const Vec3& t, const PointMeasurementEntry& m, const Vec3& p_world,
-                            double huber_delta) {
-  const Vec3 inv_sigma = m.sigma_m.cwiseInverse();
-  const Vec3 r = inv_sigma.cwiseProduct(R.transpose() * (p_world - t) - m.z_camera);
-  const Mat3 WRt = inv_sigma.asDiagonal() * R.transpose();
-  return HuberWeightSq(r.squaredNorm(), huber_delta) * WRt.transpose() * WRt;
+                            const HuberLoss& huber) {
+  Mat3 J_point;
+  const Vec3 r = PointMeasurementResidual(R, t, p_world, m.z_camera, m.sigma_m.cwiseInverse(), nullptr, &J_point);
+  return huber.weight(r.squaredNorm()) * J_point.transpose() * J_point;
 }
 
 }  // namespace
@@ -60,10 +53,10 @@ ObjectMotionEstimate MotionEstimateOf(const FactorGraph& graph, const ObjectTran
 
 void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, int m, FactorGraph* graph,
                             EstimateSink* sink) {
-  const double delta = params.noise.huber_delta;
+  const HuberLoss huber{params.noise.huber_delta};
   const double* cam = graph->camera(m);
-  const Mat3 R = Eigen::Map<const Eigen::Quaterniond>(cam).toRotationMatrix();
-  const Vec3 t(cam[4], cam[5], cam[6]);
+  const Mat3 R = BlockRotationMatrix(cam);
+  const Vec3 t = BlockTranslation(cam);
   FrameFactors& fm = graph->frame(m);
 
   // The transitions into m+1 start from the points at m: their centroid is final now.
@@ -76,7 +69,7 @@ void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, i
     const PointVariable& var = graph->points.at(e.point_var);
     if (var.object_id < 0 || var.last_frame != m) continue;
     auto [it, is_new] = information.try_emplace(e.point_var, var.prior_info);
-    it->second += MeasurementInformation(R, t, e, ToVec3(var.p_world), delta);
+    it->second += MeasurementInformation(R, t, e, var.position(), huber);
   }
   const double inv_motion_sigma = 1.0 / params.noise.motion_sigma_m;
   for (const auto& pm : fm.point_motions) {
@@ -84,10 +77,11 @@ void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, i
     if (it == information.end()) continue;
     const MotionVariable& H = graph->motions.at(pm.motion_var);
     const Mat3 S = pm.prev_point_var >= 0 ? Mat3(Mat3::Identity() * inv_motion_sigma) : pm.sqrt_info;
-    const Vec3 prev = pm.prev_point_var >= 0 ? ToVec3(graph->points.at(pm.prev_point_var).p_world) : pm.prev_mean_world;
-    const SE3 Hw = H.worldMotion();
-    const Vec3 r = S * (ToVec3(graph->points.at(pm.curr_point_var).p_world) - Hw * prev);
-    it->second += HuberWeightSq(r.squaredNorm(), delta) * S.transpose() * S;
+    const Vec3 prev = pm.prev_point_var >= 0 ? graph->points.at(pm.prev_point_var).position() : pm.prev_mean_world;
+    const Vec3 r = PointMotionResidual(BlockRotationMatrix(H.H_anchor.data()), BlockTranslation(H.H_anchor.data()),
+                                       H.anchor_world, prev, graph->points.at(pm.curr_point_var).position(), S, nullptr,
+                                       nullptr, nullptr);
+    it->second += huber.weight(r.squaredNorm()) * S.transpose() * S;
   }
 
   // Their successors' ternary factors become binary factors with the marginal folded into the noise.
@@ -98,10 +92,10 @@ void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, i
       const auto it = information.find(pm.prev_point_var);
       if (it == information.end()) continue;
       const Mat3 cov_prev = it->second.ldlt().solve(Mat3::Identity());
-      const Mat3 R_H = BlockToPose(graph->motions.at(pm.motion_var).H_anchor.data()).rotationMatrix();
+      const Mat3 R_H = BlockRotationMatrix(graph->motions.at(pm.motion_var).H_anchor.data());
       const Mat3 cov = motion_var_sq * Mat3::Identity() + R_H * cov_prev * R_H.transpose();
       const Eigen::LLT<Mat3> llt(cov.inverse());
-      pm.prev_mean_world = ToVec3(graph->points.at(pm.prev_point_var).p_world);
+      pm.prev_mean_world = graph->points.at(pm.prev_point_var).position();
       pm.sqrt_info = llt.matrixU();
       pm.prev_point_var = -1;
     }
@@ -114,7 +108,7 @@ void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, i
   for (const auto& e : fm.measurements) {
     const PointVariable& var = graph->points.at(e.point_var);
     if (var.object_id >= 0 && var.first_frame == m && var.last_frame == m) {
-      sink->pointFinal({m, var.track_id, var.object_id, ToVec3(var.p_world)});
+      sink->pointFinal({m, var.track_id, var.object_id, var.position()});
       graph->points.erase(e.point_var);
     } else {
       kept.push_back(e);
@@ -143,19 +137,20 @@ void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, i
 }
 
 void MarginaliseCameraFrame(const BackendParams& params, int m, FactorGraph* graph, EstimateSink* sink) {
+  const HuberLoss huber{params.noise.huber_delta};
   const double* cam = graph->camera(m);
-  const Mat3 R = Eigen::Map<const Eigen::Quaterniond>(cam).toRotationMatrix();
-  const Vec3 t(cam[4], cam[5], cam[6]);
+  const Mat3 R = BlockRotationMatrix(cam);
+  const Vec3 t = BlockTranslation(cam);
   FrameFactors& fm = graph->frame(m);
   std::unordered_set<int> ended;
   for (const auto& e : fm.measurements) {
     PointVariable& var = graph->points.at(e.point_var);
-    sink->pointFinal({m, var.track_id, var.object_id, ToVec3(var.p_world)});
+    sink->pointFinal({m, var.track_id, var.object_id, var.position()});
     if (var.last_frame <= m) {
       ended.insert(e.point_var);
       continue;
     }
-    const Mat3 info = MeasurementInformation(R, t, e, ToVec3(var.p_world), params.noise.huber_delta);
+    const Mat3 info = MeasurementInformation(R, t, e, var.position(), huber);
     var.prior_info += info;
     var.prior_info_vec += info * (t + R * e.z_camera);
   }

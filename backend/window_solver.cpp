@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "backend/factors/analytic_jacobians.h"
+#include "backend/factors/huber_loss.h"
 #include "backend/factors/motion_smoothness_factor.h"
 #include "backend/factors/pose_prior_factor.h"
 #include "backend/factors/relative_pose_residual.h"
@@ -30,16 +31,6 @@ void PlusPose(const double* block, const Vec6& delta, double* out) {
   for (int i = 0; i < 3; ++i) out[4 + i] = block[4 + i] + delta[i];
 }
 
-Mat3 RotationOf(const double* block) { return Eigen::Map<const Eigen::Quaterniond>(block).toRotationMatrix(); }
-Vec3 TranslationOf(const double* block) { return Vec3(block[4], block[5], block[6]); }
-
-// Huber on the squared whitened norm s, as Ceres' HuberLoss: rho(s) = s (s <= d^2), 2 d sqrt(s) - d^2.
-struct Huber {
-  double delta;
-  double rho(double s) const { return s <= delta * delta ? s : 2.0 * delta * std::sqrt(s) - delta * delta; }
-  // sqrt(rho'(s)): residual and Jacobian scale of iteratively reweighted least squares.
-  double sqrtWeight(double s) const { return s <= delta * delta ? 1.0 : std::sqrt(delta / std::sqrt(s)); }
-};
 
 struct Measurement {
   int pose;  // pose-block index, -1: camera held constant
@@ -147,19 +138,19 @@ class WindowProblem {
     double c = 0.0;
     for (const auto& m : measurements_) {
       const double* cam = m.pose >= 0 ? poses_[m.pose] : m.camera;
-      const Vec3 r = PointMeasurementResidual(RotationOf(cam), TranslationOf(cam), point(m.point), m.z, m.inv_sigma,
+      const Vec3 r = PointMeasurementResidual(BlockRotationMatrix(cam), BlockTranslation(cam), point(m.point), m.z, m.inv_sigma,
                                               nullptr, nullptr);
       c += huber_.rho(r.squaredNorm());
     }
     for (const auto& m : motions_) {
       const double* H = poses_[m.motion];
-      const Vec3 r = PointMotionResidual(RotationOf(H), TranslationOf(H), m.anchor, prevPoint(m), point(m.curr), m.S,
+      const Vec3 r = PointMotionResidual(BlockRotationMatrix(H), BlockTranslation(H), m.anchor, prevPoint(m), point(m.curr), m.S,
                                          nullptr, nullptr, nullptr);
       c += huber_.rho(r.squaredNorm());
     }
     for (const PointVariable* p : points_) {
       if (!p->hasPrior()) continue;
-      const Vec3 x = Eigen::Map<const Vec3>(p->p_world.data());
+      const Vec3 x = p->position();
       const Vec3 mean = p->prior_info.ldlt().solve(p->prior_info_vec);
       c += (x - mean).dot(p->prior_info * (x - mean));
     }
@@ -208,7 +199,7 @@ class WindowProblem {
   }
 
  private:
-  Vec3 point(int i) const { return Eigen::Map<const Vec3>(points_[i]->p_world.data()); }
+  Vec3 point(int i) const { return points_[i]->position(); }
   Vec3 prevPoint(const PointMotion& m) const { return m.prev >= 0 ? point(m.prev) : m.prev_mean; }
 
   // Point groups: connected components of the point-motion factors between two point variables.
@@ -255,7 +246,7 @@ class WindowProblem {
     for (int mi : g.measurements) {
       const Measurement& m = measurements_[mi];
       const double* cam = m.pose >= 0 ? poses_[m.pose] : m.camera;
-      Vec3 r = PointMeasurementResidual(RotationOf(cam), TranslationOf(cam), point(m.point), m.z, m.inv_sigma,
+      Vec3 r = PointMeasurementResidual(BlockRotationMatrix(cam), BlockTranslation(cam), point(m.point), m.z, m.inv_sigma,
                                         m.pose >= 0 ? &Jpose : nullptr, &Jl);
       const double w = huber_.sqrtWeight(r.squaredNorm());
       r *= w, Jl *= w, Jpose *= w;
@@ -272,7 +263,7 @@ class WindowProblem {
     for (int mi : g.motions) {
       const PointMotion& m = motions_[mi];
       const double* H = poses_[m.motion];
-      Vec3 r = PointMotionResidual(RotationOf(H), TranslationOf(H), m.anchor, prevPoint(m), point(m.curr), m.S, &Jprev,
+      Vec3 r = PointMotionResidual(BlockRotationMatrix(H), BlockTranslation(H), m.anchor, prevPoint(m), point(m.curr), m.S, &Jprev,
                                    &Jcurr, &Jpose);
       const double w = huber_.sqrtWeight(r.squaredNorm());
       r *= w, Jprev *= w, Jcurr *= w, Jpose *= w;
@@ -349,7 +340,7 @@ class WindowProblem {
   }
 
   const BackendParams& params_;
-  Huber huber_;
+  HuberLoss huber_;
   std::vector<double*> poses_;  // cameras first, then motions
   std::vector<Vec3> motion_anchor_;
   std::unordered_map<int, int> motion_index_, point_index_;

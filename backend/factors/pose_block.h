@@ -32,6 +32,11 @@ inline SE3 BlockToPose(const double* block) {
   return SE3(Eigen::Quaterniond(block[3], block[0], block[1], block[2]), Vec3(block[4], block[5], block[6]));
 }
 
+inline Eigen::Matrix3d BlockRotationMatrix(const double* block) {
+  return Eigen::Map<const Eigen::Quaterniond>(block).toRotationMatrix();
+}
+inline Vec3 BlockTranslation(const double* block) { return Vec3(block[4], block[5], block[6]); }
+
 // Product of Eigen's quaternion manifold and R^3, matching the block layout above.
 inline ceres::Manifold* NewPoseManifold() {
   return new ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>();

@@ -115,7 +115,9 @@ TEST(Marginalisation, ObjectPointsLeaveAndTheirSuccessorsFactorsCarryTheirCovari
   for (const auto& m : sink.motions) EXPECT_LE(m.frame, 2);
   for (const auto& tr : graph.transitions) {
     EXPECT_GT(tr.frame, 2);
-    if (tr.frame == 3) EXPECT_TRUE(tr.centroid_prev_world.has_value());
+    if (tr.frame == 3) {
+      EXPECT_TRUE(tr.centroid_prev_world.has_value());
+    }
   }
   for (const auto& [id, m] : graph.motions) EXPECT_GT(m.last_frame, 2);
   // The solver accepts the converted graph.
