@@ -14,7 +14,9 @@ int PublishDataset(const ImageDataset& dataset, const PublishOptions& options, s
     throw std::invalid_argument("--start-frame " + std::to_string(options.start_frame) + " is outside the " +
                                 std::to_string(dataset.size()) + " frames");
   SensorPublisher sensors(options.domain_id, options.profiles_file, options.vehicle);
-  sensors.waitForReaders(options.wait_for_reader_s, stop);
+  if (!sensors.waitForReaders(options.wait_for_reader_s, stop) && !(stop && *stop))
+    log << "warning: no reader matched every input topic of vehicle '" << options.vehicle << "' within "
+        << options.wait_for_reader_s << " s (--wait); publishing anyway, samples nobody reads are lost" << std::endl;
 
   // The vehicle's pose in its odometry frame, accumulated from the increments.
   SE3 T_odom_camera;

@@ -223,8 +223,15 @@ std::vector<std::string> ServeArgs(int domain, const std::string& dataset, const
           "--out", out, "--status-every", "0", "--max-pending", "400", "--timeout-ms", "5000", "--silence-ms", silence_ms};
 }
 
-std::vector<std::string> PublishArgs(int domain, const std::string& dataset, const std::string& rate) {
-  return {"publish", "--domain", std::to_string(domain), "--profiles", LosslessProfiles(), "--dataset", dataset,
+// The same without shared memory: the publisher reaches serve over UDP, as a camera driver on another host.
+const std::string& LosslessUdpProfiles() {
+  static const std::string path = test::WithoutSharedMemory(LosslessProfiles(), test::TempPath("lossless_udp.xml"));
+  return path;
+}
+
+std::vector<std::string> PublishArgs(int domain, const std::string& dataset, const std::string& rate,
+                                     const std::string& profiles = LosslessProfiles()) {
+  return {"publish", "--domain", std::to_string(domain), "--profiles", profiles, "--dataset", dataset,
           "--rate", rate, "--wait", "60"};
 }
 
@@ -314,8 +321,11 @@ TEST(ServeLoopback, APublisherRestartedMidSequenceIsFollowedAndTwoVehiclesStaySe
   for (const char* v : {"--vehicle", "a", "--vehicle", "b"}) args.push_back(v);
   test::Process serve(args, test::TempPath("serve_two.log"));
   Listener a(domain, "a"), b(domain, "b");
+  // The publishers reach serve over UDP: a process killed while it writes into serve's shared-memory port
+  // can leave that port stuck in Fast DDS 2.9, after which serve hears no participant of this host over
+  // shared memory (a known Fast DDS problem, seen once here as a restarted publisher never matching).
   auto publish_args = [&](const std::string& dataset, const std::string& vehicle, int start, int frames) {
-    auto p = PublishArgs(domain, dataset, "5");
+    auto p = PublishArgs(domain, dataset, "5", LosslessUdpProfiles());
     for (const std::string& s : {std::string("--vehicle"), vehicle, std::string("--start-frame"), std::to_string(start),
                                  std::string("--frames"), std::to_string(frames)})
       p.push_back(s);
@@ -336,10 +346,11 @@ TEST(ServeLoopback, APublisherRestartedMidSequenceIsFollowedAndTwoVehiclesStaySe
     }
     ASSERT_LT(resume, 16) << "the first publisher finished before it could be killed";
     test::Process second(publish_args(city_a, "a", resume, 16 - resume), test::TempPath("pub_a2.log"));
-    ASSERT_EQ(second.wait(60s), 0);
-    ASSERT_EQ(other.wait(60s), 0);
+    ASSERT_EQ(second.wait(90s), 0) << test::ReadFile(test::TempPath("pub_a2.log"));
+    ASSERT_EQ(other.wait(60s), 0) << test::ReadFile(test::TempPath("pub_b.log"));
   }
-  ASSERT_NO_FATAL_FAILURE(ExpectBothEqualTheirReferences(a, city_a, b, city_b, 16));
+  ASSERT_NO_FATAL_FAILURE(ExpectBothEqualTheirReferences(a, city_a, b, city_b, 16))
+      << "second publisher:\n" << test::ReadFile(test::TempPath("pub_a2.log"));
   serve.signal(SIGINT);
   EXPECT_EQ(serve.wait(60s), 0);
   EXPECT_TRUE(fs::exists(test::TempPath("serve_two_out") + "/a/camera_ours.tum"));

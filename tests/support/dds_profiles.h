@@ -46,4 +46,17 @@ inline std::string WithLosslessSensorStreams(const std::string& profiles_in, con
   return profiles_out;
 }
 
+// Writes `profiles_in` to `profiles_out` without the shared-memory transport (UDPv4 only), as a participant
+// on another host or another DDS implementation talks to serve, and returns `profiles_out`.
+inline std::string WithoutSharedMemory(const std::string& profiles_in, const std::string& profiles_out) {
+  std::string xml = ReadFile(profiles_in);
+  const std::string shm = "<transport_id>dslam_shm</transport_id>";
+  const size_t user = xml.find("<userTransports>");
+  const size_t at = user == std::string::npos ? std::string::npos : xml.find(shm, user);
+  EXPECT_NE(at, std::string::npos) << profiles_in << ": expected " << shm << " in <userTransports>";
+  if (at != std::string::npos) xml.erase(at, shm.size());
+  std::ofstream(profiles_out) << xml;
+  return profiles_out;
+}
+
 }  // namespace dslam::test
