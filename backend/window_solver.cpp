@@ -78,7 +78,7 @@ class WindowProblem {
     };
     if (!options.fix_cameras)
       for (int k = first; k <= last; ++k) poses_.push_back(graph->camera(k));
-    const int num_cameras = static_cast<int>(poses_.size());
+    const int num_cameras = num_cameras_ = static_cast<int>(poses_.size());
     auto camera_index = [&](int k) { return options.fix_cameras || k < first ? -1 : k - first; };
     auto motion_index = [&](int id) {
       auto [it, is_new] = motion_index_.try_emplace(id, static_cast<int>(poses_.size()));
@@ -167,9 +167,7 @@ class WindowProblem {
     for (Group& g : groups_) eliminate(g, lambda, &S, &b, &diag);
     for (const auto& f : pose_factors_) addPoseFactor(f, &S, &b, &diag);
     for (int i = 0; i < n; ++i) S(i, i) += lambda * std::max(diag[i], 1e-9) + 1e-12;
-    Eigen::LLT<MatX> llt(S);
-    if (llt.info() != Eigen::Success) return false;
-    *dx = llt.solve(-b);
+    if (!solveReduced(S, b, dx)) return false;
     dp->assign(points_.size(), Vec3::Zero());
     for (const Group& g : groups_) {
       VecX dx_local(6 * g.poses.size());
@@ -178,6 +176,54 @@ class WindowProblem {
       for (size_t i = 0; i < g.points.size(); ++i) (*dp)[g.points[i]] = d.segment<3>(3 * i);
     }
     return dx->allFinite();
+  }
+
+  // Solves S dx = -b. The motions of different objects are not coupled (cameras couple everything), so
+  // each object's motions are eliminated first, block by block, into the camera system, which is then
+  // solved densely: a few small factorisations and one 6W x 6W, instead of one over every motion.
+  bool solveReduced(const MatX& S, const VecX& b, VecX* dx) const {
+    const int nc = 6 * num_cameras_, num_motions = static_cast<int>(poses_.size()) - num_cameras_;
+    std::vector<int> parent(num_motions);
+    std::iota(parent.begin(), parent.end(), 0);
+    std::function<int(int)> find = [&](int i) { return parent[i] == i ? i : parent[i] = find(parent[i]); };
+    for (int i = 0; i < num_motions; ++i)
+      for (int j = i + 1; j < num_motions; ++j)
+        if (!S.block<6, 6>(nc + 6 * i, nc + 6 * j).isZero(0.0)) parent[find(i)] = find(j);
+    std::vector<std::vector<int>> rows_of(num_motions);
+    for (int i = 0; i < num_motions; ++i)
+      for (int r = 0; r < 6; ++r) rows_of[find(i)].push_back(nc + 6 * i + r);
+
+    std::vector<int> camera_rows(nc);
+    std::iota(camera_rows.begin(), camera_rows.end(), 0);
+    MatX Scc = S.topLeftCorner(nc, nc);
+    VecX bc = b.head(nc);
+    struct Eliminated {
+      const std::vector<int>* rows;
+      VecX Ainv_b;
+      MatX Ainv_Bt;
+    };
+    std::vector<Eliminated> eliminated;
+    for (const std::vector<int>& rows : rows_of) {
+      if (rows.empty()) continue;
+      const Eigen::LLT<MatX> llt(S(rows, rows));
+      if (llt.info() != Eigen::Success) return false;
+      const MatX B = S(camera_rows, rows);
+      Eliminated e{&rows, llt.solve(b(rows)), llt.solve(B.transpose())};
+      Scc.noalias() -= B * e.Ainv_Bt;
+      bc.noalias() -= B * e.Ainv_b;
+      eliminated.push_back(std::move(e));
+    }
+    dx->resize(S.rows());
+    if (nc > 0) {
+      const Eigen::LLT<MatX> llt(Scc);
+      if (llt.info() != Eigen::Success) return false;
+      dx->head(nc) = llt.solve(-bc);
+    }
+    for (const Eliminated& e : eliminated) {
+      const VecX dm = -e.Ainv_b - e.Ainv_Bt * dx->head(nc);
+      for (size_t r = 0; r < e.rows->size(); ++r) (*dx)[(*e.rows)[r]] = dm[static_cast<Eigen::Index>(r)];
+    }
+    return true;
   }
 
   // Applies a step; the previous values are kept for undo().
@@ -233,14 +279,40 @@ class WindowProblem {
     }
   }
 
-  // Linearises one point group and adds its Schur complement to the reduced pose system.
+  // Linearises one point group and adds its Schur complement to the reduced pose system. Groups are
+  // small (a landmark: 3 unknowns; an object point's chain: 3 per frame of the object window), so their
+  // blocks have fixed sizes up to four points; longer chains take heap matrices.
   void eliminate(Group& g, double lambda, MatX* S, VecX* b, VecX* diag) {
-    const int np = 3 * static_cast<int>(g.points.size()), nx = 6 * static_cast<int>(g.poses.size());
+    switch (g.points.size()) {
+      case 1: return eliminateWith<3>(g, lambda, S, b, diag);
+      case 2: return eliminateWith<6>(g, lambda, S, b, diag);
+      case 3: return eliminateWith<9>(g, lambda, S, b, diag);
+      case 4: return eliminateWith<12>(g, lambda, S, b, diag);
+      default: return eliminateWith<Eigen::Dynamic>(g, lambda, S, b, diag);
+    }
+  }
+
+  // Every factor of a group touches one pose, so the group's pose-pose Hessian is block-diagonal and goes
+  // straight into S; the point-pose coupling is kept per pose (W_a, np x 6) and its Schur complement
+  // -W_a^T Hpp^-1 W_c is formed block by block.
+  template <int kNp>
+  void eliminateWith(Group& g, double lambda, MatX* S, VecX* b, VecX* diag) {
+    using MatPP = Eigen::Matrix<double, kNp, kNp>;
+    using MatP6 = Eigen::Matrix<double, kNp, 6>;
+    using VecP = Eigen::Matrix<double, kNp, 1>;
+    const int np = 3 * static_cast<int>(g.points.size()), num_poses = static_cast<int>(g.poses.size());
     auto local_pose = [&](int pose) {
       return static_cast<int>(std::lower_bound(g.poses.begin(), g.poses.end(), pose) - g.poses.begin());
     };
-    MatX Hpp = MatX::Zero(np, np), Hpx = MatX::Zero(np, nx), Hxx = MatX::Zero(nx, nx);
-    VecX gp = VecX::Zero(np), gx = VecX::Zero(nx);
+    MatPP Hpp = MatPP::Zero(np, np);
+    VecP gp = VecP::Zero(np);
+    std::vector<MatP6>& W = scratch_W<kNp>();
+    W.assign(num_poses, MatP6::Zero(np, 6));
+    auto add_pose = [&](int pose, const Mat36& Jpose, const Vec3& r) {
+      S->block<6, 6>(6 * pose, 6 * pose) += Jpose.transpose() * Jpose;
+      b->segment<6>(6 * pose) += Jpose.transpose() * r;
+      diag->segment<6>(6 * pose) += Jpose.colwise().squaredNorm().transpose();
+    };
     Mat36 Jpose;
     Mat3 Jl, Jprev, Jcurr;
     for (int mi : g.measurements) {
@@ -251,13 +323,11 @@ class WindowProblem {
       const double w = huber_.sqrtWeight(r.squaredNorm());
       r *= w, Jl *= w, Jpose *= w;
       const int i = 3 * local_index_[m.point];
-      Hpp.block<3, 3>(i, i) += Jl.transpose() * Jl;
-      gp.segment<3>(i) += Jl.transpose() * r;
+      Hpp.template block<3, 3>(i, i) += Jl.transpose() * Jl;
+      gp.template segment<3>(i) += Jl.transpose() * r;
       if (m.pose >= 0) {
-        const int c = 6 * local_pose(m.pose);
-        Hpx.block<3, 6>(i, c) += Jl.transpose() * Jpose;
-        Hxx.block<6, 6>(c, c) += Jpose.transpose() * Jpose;
-        gx.segment<6>(c) += Jpose.transpose() * r;
+        W[local_pose(m.pose)].template block<3, 6>(i, 0) += Jl.transpose() * Jpose;
+        add_pose(m.pose, Jpose, r);
       }
     }
     for (int mi : g.motions) {
@@ -267,40 +337,62 @@ class WindowProblem {
                                    &Jcurr, &Jpose);
       const double w = huber_.sqrtWeight(r.squaredNorm());
       r *= w, Jprev *= w, Jcurr *= w, Jpose *= w;
-      const int j = 3 * local_index_[m.curr], h = 6 * local_pose(m.motion);
-      Hpp.block<3, 3>(j, j) += Jcurr.transpose() * Jcurr;
-      gp.segment<3>(j) += Jcurr.transpose() * r;
-      Hpx.block<3, 6>(j, h) += Jcurr.transpose() * Jpose;
+      const int j = 3 * local_index_[m.curr];
+      MatP6& Wh = W[local_pose(m.motion)];
+      Hpp.template block<3, 3>(j, j) += Jcurr.transpose() * Jcurr;
+      gp.template segment<3>(j) += Jcurr.transpose() * r;
+      Wh.template block<3, 6>(j, 0) += Jcurr.transpose() * Jpose;
       if (m.prev >= 0) {
         const int i = 3 * local_index_[m.prev];
-        Hpp.block<3, 3>(i, i) += Jprev.transpose() * Jprev;
-        Hpp.block<3, 3>(i, j) += Jprev.transpose() * Jcurr;
-        Hpp.block<3, 3>(j, i) += Jcurr.transpose() * Jprev;
-        gp.segment<3>(i) += Jprev.transpose() * r;
-        Hpx.block<3, 6>(i, h) += Jprev.transpose() * Jpose;
+        Hpp.template block<3, 3>(i, i) += Jprev.transpose() * Jprev;
+        Hpp.template block<3, 3>(i, j) += Jprev.transpose() * Jcurr;
+        Hpp.template block<3, 3>(j, i) += Jcurr.transpose() * Jprev;
+        gp.template segment<3>(i) += Jprev.transpose() * r;
+        Wh.template block<3, 6>(i, 0) += Jprev.transpose() * Jpose;
       }
-      Hxx.block<6, 6>(h, h) += Jpose.transpose() * Jpose;
-      gx.segment<6>(h) += Jpose.transpose() * r;
+      add_pose(m.motion, Jpose, r);
     }
     for (size_t j = 0; j < g.points.size(); ++j) {
       const PointVariable* p = points_[g.points[j]];
       if (!p->hasPrior()) continue;
       const int i = 3 * static_cast<int>(j);
-      Hpp.block<3, 3>(i, i) += p->prior_info;
-      gp.segment<3>(i) += p->prior_info * point(g.points[j]) - p->prior_info_vec;
+      Hpp.template block<3, 3>(i, i) += p->prior_info;
+      gp.template segment<3>(i) += p->prior_info * point(g.points[j]) - p->prior_info_vec;
     }
-    for (int i = 0; i < nx; ++i) (*diag)[6 * g.poses[i / 6] + i % 6] += Hxx(i, i);
     for (int i = 0; i < np; ++i) Hpp(i, i) += lambda * Hpp(i, i) + 1e-12;
-    Eigen::LLT<MatX> llt(Hpp);
-    g.Y = llt.solve(Hpx);
-    g.y = llt.solve(gp);
-    Hxx.noalias() -= Hpx.transpose() * g.Y;
-    gx.noalias() -= Hpx.transpose() * g.y;
-    for (size_t a = 0; a < g.poses.size(); ++a) {
-      b->segment<6>(6 * g.poses[a]) += gx.segment<6>(6 * a);
-      for (size_t c = 0; c < g.poses.size(); ++c)
-        S->block<6, 6>(6 * g.poses[a], 6 * g.poses[c]) += Hxx.block<6, 6>(6 * a, 6 * c);
+    // Through the explicit inverse and coefficient-wise (lazy) fixed-size products: solving into blocks of
+    // the dynamic Y, or Eigen's blocked GEMM above 20 summed dimensions, took most of the solve time.
+    const MatPP Hpp_inv = Eigen::LLT<MatPP>(Hpp).solve(MatPP::Identity(np, np));
+    const VecP y = Hpp_inv * gp;
+    g.y = y;
+    std::vector<MatP6>& Y = scratch_Y<kNp>();
+    Y.resize(num_poses);
+    g.Y.resize(np, 6 * num_poses);
+    for (int a = 0; a < num_poses; ++a) {
+      Y[a].noalias() = Hpp_inv.lazyProduct(W[a]);
+      g.Y.middleCols<6>(6 * a) = Y[a];
     }
+    for (int a = 0; a < num_poses; ++a) {
+      const int pa = g.poses[a];
+      b->segment<6>(6 * pa).noalias() -= W[a].transpose() * y;
+      for (int c = a; c < num_poses; ++c) {
+        const Mat6 block = W[a].transpose().lazyProduct(Y[c]);
+        S->block<6, 6>(6 * pa, 6 * g.poses[c]) -= block;
+        if (c != a) S->block<6, 6>(6 * g.poses[c], 6 * pa) -= block.transpose();
+      }
+    }
+  }
+
+  // Reused between groups so that the per-pose blocks are not allocated for every group.
+  template <int kNp>
+  std::vector<Eigen::Matrix<double, kNp, 6>>& scratch_W() {
+    static thread_local std::vector<Eigen::Matrix<double, kNp, 6>> W;
+    return W;
+  }
+  template <int kNp>
+  std::vector<Eigen::Matrix<double, kNp, 6>>& scratch_Y() {
+    static thread_local std::vector<Eigen::Matrix<double, kNp, 6>> Y;
+    return Y;
   }
 
   // Residual of a pose factor with block `perturbed` (0: a, 1: b, -1: none) moved by delta.
@@ -342,6 +434,7 @@ class WindowProblem {
   const BackendParams& params_;
   HuberLoss huber_;
   std::vector<double*> poses_;  // cameras first, then motions
+  int num_cameras_ = 0;
   std::vector<Vec3> motion_anchor_;
   std::unordered_map<int, int> motion_index_, point_index_;
   std::vector<PointVariable*> points_;
