@@ -34,18 +34,22 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
     const std::string log_path = options.out_dir + "/frontend.csv";
     std::ofstream frame_log(log_path);
     if (!frame_log) throw std::runtime_error("cannot write " + log_path);
-    const Sequence seq =
-        RunImageFrontend(dataset, config, options.frames, options.quiet ? nullptr : &out, &summary, &frame_log);
-
     RunSequenceOptions run;
     run.progress = options.quiet ? nullptr : &out;
     run.object_category = options.category;
-    run.evaluate = summary.has_ground_truth;
     run.methods.clear();
     for (Method m : {Method::kOurs, Method::kStaticOnly, Method::kSlamMot})
       if (std::find(options.methods.begin(), options.methods.end(), ToString(m)) != options.methods.end())
         run.methods.push_back(m);
     if (run.methods.empty()) throw std::invalid_argument("--methods names no method (ours, static_only, slam_mot)");
+    const bool with_ours = std::find(run.methods.begin(), run.methods.end(), Method::kOurs) != run.methods.end();
+
+    // Ours runs online, its back-end in parallel with the front-end; the baselines run afterwards.
+    MethodResult ours;
+    const Sequence seq = RunImageFrontend(dataset, config, options.frames, options.quiet ? nullptr : &out, &summary,
+                                          &frame_log, with_ours ? &ours : nullptr);
+    if (with_ours) run.precomputed[Method::kOurs] = std::move(ours);
+    run.evaluate = summary.has_ground_truth;
     const MethodOutcomes outcomes = RunSequence(seq, config, run);
 
     nlohmann::json info = RunInfo("run", options, config);

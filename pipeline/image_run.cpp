@@ -2,73 +2,140 @@
 
 #include <algorithm>
 #include <chrono>
+#include <mutex>
 #include <set>
 
+#include "pipeline/staged_pipeline.h"
+
 namespace dslam {
+namespace {
+using Clock = std::chrono::steady_clock;
+
+// What the run records of each frame the front-end produced: the measurement, the front-end log and the
+// summary's sums. Called in frame order, from one thread at a time.
+class FrontendRecorder {
+ public:
+  FrontendRecorder(int frames, std::ostream* progress, std::mutex* progress_mutex, std::ostream* frame_log,
+                   Sequence* seq)
+      : frames_(frames), progress_(progress), progress_mutex_(progress_mutex), frame_log_(frame_log), seq_(seq) {}
+
+  void record(const FrameMeasurement& m, const FrontendFrameStats& st, double frontend_ms) {
+    const int k = static_cast<int>(seq_->frames.size());
+    seq_->frames.push_back(m);
+    frontend_ms_ += frontend_ms;
+    for (int label : st.mask_labels) visible_.insert({k, label});
+    if (frame_log_) {
+      if (k == 0)
+        *frame_log_ << "frame,object_id,flowed,tracked,added,measured,motion_rejected,pnp_inliers,median_fb_px\n";
+      *frame_log_ << k << ",0,-1," << st.static_tracked << ',' << st.static_new << ",1,0," << st.pnp_inliers << ','
+                  << st.median_fb_error_px << '\n';
+      for (const auto& [id, c] : st.object_counts)
+        *frame_log_ << k << ',' << id << ',' << c.flowed << ',' << c.tracked << ',' << c.added << ','
+                    << (c.measured ? 1 : 0) << ',' << (c.motion_rejected ? 1 : 0) << ',' << st.pnp_inliers << ','
+                    << st.median_fb_error_px << '\n';
+    }
+    s_.mean_static_tracks += st.static_tracked + st.static_new;
+    s_.mean_object_points += st.object_points_tracked + st.object_points_new;
+    s_.mean_pnp_inliers += st.pnp_inliers;
+    if (k > 0) fb_medians_.push_back(st.median_fb_error_px);
+    if (progress_ && ((k + 1) % std::max(1, frames_ / 10) == 0 || k + 1 == frames_)) {
+      const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
+      std::lock_guard<std::mutex> lock(*progress_mutex_);
+      *progress_ << "  front-end: frame " << k + 1 << "/" << frames_ << ", " << (k + 1) / elapsed << " frames/s, "
+                 << st.static_tracked << " static tracks kept + " << st.static_new << " new, " << st.objects
+                 << " objects" << std::endl;
+    }
+  }
+
+  bool visible(int k, int label) const { return visible_.count({k, label}) > 0; }
+
+  ImageRunSummary summary(double read_s) {
+    ImageRunSummary s = s_;
+    const int frames = static_cast<int>(seq_->frames.size());
+    s.frames = frames;
+    if (frames > 0) {
+      s.frontend_ms_per_frame = frontend_ms_ / frames;
+      s.read_ms_per_frame = 1000.0 * read_s / frames;
+      s.mean_static_tracks /= frames;
+      s.mean_object_points /= frames;
+      s.mean_pnp_inliers /= std::max(1, frames - 1);
+    }
+    if (!fb_medians_.empty()) {
+      std::nth_element(fb_medians_.begin(), fb_medians_.begin() + fb_medians_.size() / 2, fb_medians_.end());
+      s.median_fb_error_px = fb_medians_[fb_medians_.size() / 2];
+    }
+    return s;
+  }
+
+ private:
+  int frames_;
+  std::ostream* progress_;
+  std::mutex* progress_mutex_;
+  std::ostream* frame_log_;
+  Sequence* seq_;
+  const Clock::time_point start_ = Clock::now();
+  std::set<std::pair<int, int>> visible_;  // (frame, mask label) large enough to be an object
+  ImageRunSummary s_;
+  std::vector<double> fb_medians_;
+  double frontend_ms_ = 0.0;
+};
+
+double SecondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+}  // namespace
 
 Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, int max_frames, std::ostream* progress,
-                          ImageRunSummary* summary, std::ostream* frame_log) {
+                          ImageRunSummary* summary, std::ostream* frame_log, MethodResult* ours) {
   config.validate();
   const int frames = max_frames > 0 ? std::min(max_frames, dataset.size()) : dataset.size();
-  FrontendParams frontend_params = config.frontend;
-  frontend_params.frame_interval_s = 1.0 / dataset.frameRateHz();
-  ImageFrontend frontend(frontend_params, dataset.camera());
   Sequence seq;
   seq.name = dataset.name();
   seq.frame_rate_hz = dataset.frameRateHz();
-  std::set<std::pair<int, int>> visible;  // (frame, mask label) large enough to be an object
-  ImageRunSummary s;
-  std::vector<double> fb_medians;
-  using Clock = std::chrono::steady_clock;
-  double read_s = 0.0, frontend_s = 0.0;
-  const auto start = Clock::now();
-  for (int k = 0; k < frames; ++k) {
-    const auto t0 = Clock::now();
-    const ImageFrame frame = dataset.read(k);
-    const auto t1 = Clock::now();
-    seq.frames.push_back(frontend.process(frame));
-    const auto t2 = Clock::now();
-    read_s += std::chrono::duration<double>(t1 - t0).count();
-    frontend_s += std::chrono::duration<double>(t2 - t1).count();
-    const FrontendFrameStats& st = frontend.lastStats();
-    for (int label : st.mask_labels) visible.insert({k, label});
-    if (frame_log) {
-      if (k == 0)
-        *frame_log << "frame,object_id,flowed,tracked,added,measured,motion_rejected,pnp_inliers,median_fb_px\n";
-      *frame_log << k << ",0,-1," << st.static_tracked << ',' << st.static_new << ",1,0," << st.pnp_inliers << ','
-                 << st.median_fb_error_px << '\n';
-      for (const auto& [id, c] : st.object_counts)
-        *frame_log << k << ',' << id << ',' << c.flowed << ',' << c.tracked << ',' << c.added << ','
-                   << (c.measured ? 1 : 0) << ',' << (c.motion_rejected ? 1 : 0) << ',' << st.pnp_inliers << ','
-                   << st.median_fb_error_px << '\n';
+  std::mutex progress_mutex;
+  FrontendRecorder recorder(frames, progress, &progress_mutex, frame_log, &seq);
+  double read_s = 0.0;
+
+  if (ours) {
+    // Frames wait at most this many deep before each stage: enough to ride out a slow frame.
+    constexpr size_t kQueueCapacity = 4;
+    StagedPipelineCallbacks callbacks;
+    callbacks.on_measurement = [&](const FrameMeasurement& m, const FrontendFrameStats& st, double ms) {
+      recorder.record(m, st, ms);
+    };
+    const int step = std::max(1, frames / 10);
+    callbacks.on_estimate = [&](const FrameEstimate& e, const FrameMeasurement&) {
+      if (progress && ((e.frame + 1) % step == 0 || e.frame + 1 == frames)) {
+        std::lock_guard<std::mutex> lock(progress_mutex);
+        *progress << "  ours: frame " << e.frame + 1 << "/" << frames << std::endl;
+      }
+    };
+    StagedPipeline pipeline(config, dataset.camera(), dataset.frameRateHz(), kQueueCapacity, callbacks);
+    for (int k = 0; k < frames; ++k) {
+      const auto t0 = Clock::now();
+      ImageFrame frame = dataset.read(k);
+      read_s += SecondsSince(t0);
+      if (!pipeline.push(std::move(frame))) break;  // a stage failed: finish() throws its error
     }
-    s.mean_static_tracks += st.static_tracked + st.static_new;
-    s.mean_object_points += st.object_points_tracked + st.object_points_new;
-    s.mean_pnp_inliers += st.pnp_inliers;
-    if (k > 0) fb_medians.push_back(st.median_fb_error_px);
-    if (progress && ((k + 1) % std::max(1, frames / 10) == 0 || k + 1 == frames)) {
-      const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
-      *progress << "  front-end: frame " << k + 1 << "/" << frames << ", " << (k + 1) / elapsed << " frames/s, "
-                << st.static_tracked << " static tracks kept + " << st.static_new << " new, " << st.objects
-                << " objects" << std::endl;
+    *ours = pipeline.finish();
+  } else {
+    FrontendParams frontend_params = config.frontend;
+    frontend_params.frame_interval_s = 1.0 / dataset.frameRateHz();
+    ImageFrontend frontend(frontend_params, dataset.camera());
+    for (int k = 0; k < frames; ++k) {
+      const auto t0 = Clock::now();
+      const ImageFrame frame = dataset.read(k);
+      const auto t1 = Clock::now();
+      const FrameMeasurement m = frontend.process(frame);
+      read_s += std::chrono::duration<double>(t1 - t0).count();
+      recorder.record(m, frontend.lastStats(), 1000.0 * SecondsSince(t1));
     }
   }
-  s.frames = frames;
-  if (frames > 0) {
-    s.frontend_ms_per_frame = 1000.0 * frontend_s / frames;
-    s.read_ms_per_frame = 1000.0 * read_s / frames;
-    s.mean_static_tracks /= frames;
-    s.mean_object_points /= frames;
-    s.mean_pnp_inliers /= std::max(1, frames - 1);
-  }
-  if (!fb_medians.empty()) {
-    std::nth_element(fb_medians.begin(), fb_medians.begin() + fb_medians.size() / 2, fb_medians.end());
-    s.median_fb_error_px = fb_medians[fb_medians.size() / 2];
-  }
+
+  ImageRunSummary s = recorder.summary(read_s);
   if (dataset.groundTruth()) {
     s.has_ground_truth = true;
     seq.gt = ToGroundTruth(*dataset.groundTruth(), frames, config.frontend.object_max_distance_m,
-                           [&](int k, int id) { return visible.count({k, id}) > 0; });
+                           [&](int k, int id) { return recorder.visible(k, id); });
   }
   if (summary) *summary = s;
   return seq;

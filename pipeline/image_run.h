@@ -8,6 +8,7 @@
 #include "data/image_dataset.h"
 #include "data/sequence.h"
 #include "frontend/image_frontend.h"
+#include "backend/methods.h"
 #include "pipeline/run_config.h"
 
 namespace dslam {
@@ -27,7 +28,10 @@ struct ImageRunSummary {
 // `frame_log`, when given, receives one CSV row per frame and object (object_id 0: the background, flowed -1):
 // frame,object_id,flowed,tracked,added,measured,motion_rejected,pnp_inliers,median_fb_px
 // (see FrontendFrameStats::ObjectCounts).
+// With `ours`, the stages run in parallel (pipeline/staged_pipeline.h): this thread reads and decodes the
+// files, the front-end and ours' back-end each run on their own thread, and `ours` receives ours' result
+// (the same as RunSequence computes from the returned measurements). Without it, the front-end runs here.
 Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, int max_frames, std::ostream* progress,
-                          ImageRunSummary* summary, std::ostream* frame_log = nullptr);
+                          ImageRunSummary* summary, std::ostream* frame_log = nullptr, MethodResult* ours = nullptr);
 
 }  // namespace dslam

@@ -18,7 +18,9 @@ MethodOutcomes RunSequence(const Sequence& seq, const RunConfig& config, const R
       };
     }
     MethodOutcome outcome;
-    outcome.result = RunMethod(method, config.backend, seq.frame_rate_hz, frames, progress);
+    const auto done = options.precomputed.find(method);
+    outcome.result = done != options.precomputed.end() ? done->second
+                                                       : RunMethod(method, config.backend, seq.frame_rate_hz, frames, progress);
     if (options.evaluate)
       outcome.metrics = EvaluateEstimate(seq, outcome.result.estimate, method != Method::kStaticOnly,
                                          options.object_category);

@@ -16,7 +16,8 @@
 #include "plugin/dds_session.h"
 #include "plugin/image_message.h"
 #include "plugin/topics.h"
-#include "plugin/vehicle_pipeline.h"
+#include "pipeline/bounded_queue.h"
+#include "pipeline/staged_pipeline.h"
 #include "sensor_msgs_ImagePubSubTypes.h"
 
 namespace dslam {
@@ -51,14 +52,17 @@ dslam_msgs::msg::ObjectMotionArray ToMessage(const FrameEstimate& e, double fram
 
 }  // namespace
 
-// One vehicle: its readers feed the assembler; a worker thread runs the pipeline and publishes.
+// One vehicle, four threads: Fast DDS' receive thread only copies each sample into the inbox (never
+// waiting: when the inbox is full the oldest sample is dropped and counted); the intake thread decodes
+// samples and assembles frames; the feeder hands assembled frames to the staged pipeline, whose front-end
+// and back-end threads run in parallel; the back-end thread publishes each estimate.
 class Vehicle {
  public:
   Vehicle(DdsSession& session, const std::string& name, const ServeOptions& options, const RunConfig& config)
       : name_(name),
         options_(options),
         assembler_(options.assembler),
-        pipeline_(config, options.camera, options.frame_rate_hz),
+        inbox_(kInboxSamplesPerFrame * static_cast<size_t>(options.assembler.max_pending)),
         colour_listener_(this, ImageRole::kColour),
         depth_listener_(this, ImageRole::kDepth),
         mask_listener_(this, ImageRole::kMask),
@@ -68,7 +72,20 @@ class Vehicle {
     objects_writer_ =
         session.writer(topics.object_motions, new dslam_msgs::msg::ObjectMotionArrayPubSubType(), "estimate_writer");
     status_writer_ = session.writer(topics.status, new dslam_msgs::msg::StatusPubSubType(), "estimate_writer");
-    worker_ = std::thread([this] { run(); });
+    StagedPipelineCallbacks callbacks;
+    callbacks.on_estimate = [this](const FrameEstimate& e, const FrameMeasurement& m) { publish(e, m); };
+    callbacks.on_rejected = [this](const ImageFrame& frame, const std::string& reason) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        assembler_.reject(std::string("frame at ") + std::to_string(frame.t_ns) + " ns: " + reason);
+        handed_at_.erase(frame.t_ns);
+      }
+      wake_.notify_one();  // the feeder reports the rejection
+    };
+    pipeline_ = std::make_unique<StagedPipeline>(config, options.camera, options.frame_rate_hz,
+                                                 static_cast<size_t>(options.assembler.max_pending), callbacks);
+    intake_ = std::thread([this] { runIntake(); });
+    feeder_ = std::thread([this] { runFeeder(); });
     session.reader(topics.colour, new sensor_msgs::msg::ImagePubSubType(), "sensor_reader", &colour_listener_);
     session.reader(topics.depth, new sensor_msgs::msg::ImagePubSubType(), "sensor_reader", &depth_listener_);
     session.reader(topics.mask, new sensor_msgs::msg::ImagePubSubType(), "sensor_reader", &mask_listener_);
@@ -77,86 +94,77 @@ class Vehicle {
 
   ~Vehicle() { stop(); }
 
+  // Stops taking samples and finishes every frame already assembled (their estimates are published:
+  // call it while the session's writers exist). Idempotent.
   void stop() {
+    inbox_.close();
+    if (intake_.joinable()) intake_.join();
     {
       std::lock_guard<std::mutex> lock(mutex_);
       stopping_ = true;
     }
     wake_.notify_all();
-    if (worker_.joinable()) worker_.join();
+    if (feeder_.joinable()) feeder_.join();
+    if (!result_ && pipeline_failure_.empty()) {
+      try {
+        result_ = pipeline_->finish();
+      } catch (const std::exception& e) {
+        pipeline_failure_ = e.what();
+      }
+    }
   }
 
   VehicleStatus status() const {
     std::lock_guard<std::mutex> lock(mutex_);
-    return status_;
+    VehicleStatus s = status_;
+    s.counters = countersLocked();
+    return s;
   }
 
   void writeResults(std::ostream& log) {
-    std::lock_guard<std::mutex> lock(pipeline_mutex_);
     const std::string dir = options_.out_dir + "/" + (name_.empty() ? "default" : name_);
-    if (pipeline_.framesProcessed() == 0) {
+    stop();
+    if (!pipeline_failure_.empty()) log << "vehicle '" << name_ << "': the pipeline failed: " << pipeline_failure_ << std::endl;
+    const int frames = static_cast<int>(sequence_.frames.size());
+    if (frames == 0 || !result_) {
       log << "vehicle '" << name_ << "': no frame processed, nothing written" << std::endl;
       return;
     }
-    MethodOutcomes outcomes;
-    outcomes[Method::kOurs].result.estimate = pipeline_.finish();
-    outcomes[Method::kOurs].result.online = online_;
     nlohmann::json info;
     info["command"] = "serve";
     info["vehicle"] = name_;
-    info["frames"] = pipeline_.framesProcessed();
+    info["frames"] = frames;
     const VehicleStatus s = status();
     info["frames_received"] = s.counters.parts_received;
     info["frames_assembled"] = s.counters.frames_assembled;
     info["dropped_incomplete"] = s.counters.dropped_incomplete;
     info["dropped_queue_full"] = s.counters.dropped_queue_full;
     info["rejected_invalid"] = s.counters.rejected_invalid;
-    WriteRunOutputs(dir, pipeline_.sequence(), outcomes, info);
-    log << "vehicle '" << name_ << "': " << pipeline_.framesProcessed() << " frames, results written to " << dir
-        << std::endl;
-  }
-
-  void onImage(ImageRole role, const sensor_msgs::msg::Image& msg) {
-    DecodedImage decoded = DecodeImage(msg, role);
-    const int64_t t_ns = StampToNs(msg.header().stamp());
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (!decoded.error.empty()) {
-        assembler_.reject(decoded.error);
-      } else if (role == ImageRole::kColour) {
-        assembler_.addColour(t_ns, decoded.image);
-      } else if (role == ImageRole::kDepth) {
-        assembler_.addDepth(t_ns, decoded.image);
-      } else {
-        assembler_.addMask(t_ns, decoded.image);
-      }
-    }
-    wake_.notify_one();
-  }
-
-  void onOdometry(const nav_msgs::msg::Odometry& msg) {
-    std::string error;
-    const auto pose = DecodeOdometry(msg, Vec6::Constant(0.01), &error);
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (pose) {
-        assembler_.addOdometry(StampToNs(msg.header().stamp()), *pose);
-      } else {
-        assembler_.reject(error);
-      }
-    }
-    wake_.notify_one();
+    MethodOutcomes outcomes;
+    outcomes[Method::kOurs].result = *result_;
+    WriteRunOutputs(dir, sequence_, outcomes, info);
+    log << "vehicle '" << name_ << "': " << frames << " frames, results written to " << dir << std::endl;
   }
 
  private:
+  // Up to this many samples (colour, depth, mask, odometry and some slack) per waiting frame in the inbox.
+  static constexpr size_t kInboxSamplesPerFrame = 6;
+
+  struct Sample {
+    std::optional<ImageRole> role;  // none: odometry
+    sensor_msgs::msg::Image image;
+    nav_msgs::msg::Odometry odometry;
+  };
+
   class ImageListener : public dds::DataReaderListener {
    public:
     ImageListener(Vehicle* v, ImageRole role) : vehicle_(v), role_(role) {}
     void on_data_available(dds::DataReader* reader) override {
-      sensor_msgs::msg::Image msg;
+      Sample sample;
+      sample.role = role_;
       dds::SampleInfo info;
-      while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK)
-        if (info.valid_data) vehicle_->onImage(role_, msg);
+      while (reader->take_next_sample(&sample.image, &info) == ReturnCode_t::RETCODE_OK)
+        if (info.valid_data) vehicle_->inbox_.pushDropOldest(sample);
     }
 
    private:
@@ -167,17 +175,50 @@ class Vehicle {
    public:
     explicit OdometryListener(Vehicle* v) : vehicle_(v) {}
     void on_data_available(dds::DataReader* reader) override {
-      nav_msgs::msg::Odometry msg;
+      Sample sample;
       dds::SampleInfo info;
-      while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK)
-        if (info.valid_data) vehicle_->onOdometry(msg);
+      while (reader->take_next_sample(&sample.odometry, &info) == ReturnCode_t::RETCODE_OK)
+        if (info.valid_data) vehicle_->inbox_.pushDropOldest(sample);
     }
 
    private:
     Vehicle* vehicle_;
   };
 
-  void run() {
+  // The intake thread: decodes samples (off Fast DDS' receive thread) and assembles frames.
+  void runIntake() {
+    while (std::optional<Sample> sample = inbox_.pop()) {
+      if (sample->role) {
+        const ImageRole role = *sample->role;
+        DecodedImage decoded = DecodeImage(sample->image, role);
+        const int64_t t_ns = StampToNs(sample->image.header().stamp());
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!decoded.error.empty()) {
+          assembler_.reject(decoded.error);
+        } else if (role == ImageRole::kColour) {
+          assembler_.addColour(t_ns, decoded.image);
+        } else if (role == ImageRole::kDepth) {
+          assembler_.addDepth(t_ns, decoded.image);
+        } else {
+          assembler_.addMask(t_ns, decoded.image);
+        }
+      } else {
+        std::string error;
+        const auto pose = DecodeOdometry(sample->odometry, Vec6::Constant(0.01), &error);
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (pose) {
+          assembler_.addOdometry(StampToNs(sample->odometry.header().stamp()), *pose);
+        } else {
+          assembler_.reject(error);
+        }
+      }
+      wake_.notify_one();
+    }
+  }
+
+  // The feeder thread: assembled frames into the pipeline. When the pipeline is busy, push() waits and
+  // the assembler keeps collecting: it drops its oldest waiting sets (counted) beyond --max-pending.
+  void runFeeder() {
     for (;;) {
       std::vector<ImageFrame> frames;
       bool counters_changed = false;
@@ -185,15 +226,23 @@ class Vehicle {
         std::unique_lock<std::mutex> lock(mutex_);
         wake_.wait_for(lock, std::chrono::milliseconds(50));
         frames = assembler_.takeReady();
-        status_.counters = assembler_.counters();
-        counters_changed = ProblemCount(status_.counters) != published_problems_;
+        const auto now = Clock::now();
+        for (const ImageFrame& f : frames) handed_at_[f.t_ns] = now;
+        counters_changed = ProblemCount(countersLocked()) != published_problems_;
         if (frames.empty() && stopping_) return;
       }
-      for (const ImageFrame& frame : frames) process(frame);
+      for (ImageFrame& frame : frames) pipeline_->push(std::move(frame));
       // Drops and rejections with no frame to follow (a stream that stopped, a stream of bad samples)
       // are reported too, stamped with the wall time.
       if (frames.empty() && counters_changed) publishStatus(SystemClockNs());
     }
+  }
+
+  // The assembler's counters plus the samples the inbox dropped (as queue-full drops). Under mutex_.
+  AssemblerCounters countersLocked() const {
+    AssemblerCounters c = assembler_.counters();
+    c.dropped_queue_full += inbox_.dropped();
+    return c;
   }
 
   // Drops and rejections so far; the counters only grow, so their sum changes whenever one of them does.
@@ -206,37 +255,30 @@ class Vehicle {
         .count();
   }
 
-  void process(const ImageFrame& frame) {
-    const auto start = Clock::now();
-    FrameEstimate estimate;
-    {
-      std::lock_guard<std::mutex> lock(pipeline_mutex_);
-      try {
-        estimate = pipeline_.process(frame);
-      } catch (const std::exception& e) {
-        std::lock_guard<std::mutex> status_lock(mutex_);
-        assembler_.reject(std::string("frame at ") + std::to_string(frame.t_ns) + " ns: " + e.what());
-        return;
-      }
-      online_.push_back(estimate);
-    }
-    nav_msgs::msg::Odometry odometry = EncodeOdometry(estimate.T_world_camera, frame.t_ns, "world", "camera");
+  // The back-end thread, after each frame.
+  void publish(const FrameEstimate& estimate, const FrameMeasurement& m) {
+    sequence_.frames.push_back(m);  // only this thread touches it until writeResults, after finish()
+    nav_msgs::msg::Odometry odometry = EncodeOdometry(estimate.T_world_camera, estimate.t_ns, "world", "camera");
     odometry_writer_->write(&odometry);
     dslam_msgs::msg::ObjectMotionArray objects = ToMessage(estimate, options_.frame_rate_hz);
     objects_writer_->write(&objects);
     {
       std::lock_guard<std::mutex> lock(mutex_);
       ++status_.frames_processed;
-      status_.last_latency_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+      const auto it = handed_at_.find(estimate.t_ns);
+      if (it != handed_at_.end()) {
+        status_.last_latency_ms = std::chrono::duration<double, std::milli>(Clock::now() - it->second).count();
+        handed_at_.erase(handed_at_.begin(), std::next(it));
+      }
     }
-    publishStatus(frame.t_ns);
+    publishStatus(estimate.t_ns);
   }
 
   void publishStatus(int64_t t_ns) {
     dslam_msgs::msg::Status status;
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      const AssemblerCounters& c = assembler_.counters();
+      const AssemblerCounters c = countersLocked();
       status.header().stamp(NsToStamp(t_ns));
       status.vehicle(name_);
       status.frames_received(c.parts_received);
@@ -249,25 +291,31 @@ class Vehicle {
       status.last_latency_ms(status_.last_latency_ms);
       published_problems_ = ProblemCount(c);
     }
+    // The back-end and the feeder both publish statuses.
+    std::lock_guard<std::mutex> lock(status_writer_mutex_);
     status_writer_->write(&status);
   }
 
   std::string name_;
   ServeOptions options_;
-  mutable std::mutex mutex_;  // assembler and status
+  mutable std::mutex mutex_;  // assembler, status, handed_at_
   std::condition_variable wake_;
   bool stopping_ = false;
   FrameAssembler assembler_;
   VehicleStatus status_;
+  std::map<int64_t, Clock::time_point> handed_at_;  // stamps handed to the pipeline -> when (for the latency)
   // Drops and rejections as of the last status message, to publish a new one when one more happens.
   uint64_t published_problems_ = 0;
-  std::mutex pipeline_mutex_;
-  VehiclePipeline pipeline_;
-  std::vector<FrameEstimate> online_;
+  BoundedQueue<Sample> inbox_;
+  std::unique_ptr<StagedPipeline> pipeline_;
+  std::optional<MethodResult> result_;  // once stopped
+  std::string pipeline_failure_;
+  Sequence sequence_;
+  std::mutex status_writer_mutex_;
   ImageListener colour_listener_, depth_listener_, mask_listener_;
   OdometryListener odometry_listener_;
   dds::DataWriter *odometry_writer_ = nullptr, *objects_writer_ = nullptr, *status_writer_ = nullptr;
-  std::thread worker_;
+  std::thread intake_, feeder_;
 };
 
 struct ServeNode::Impl {

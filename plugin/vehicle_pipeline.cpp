@@ -1,17 +1,11 @@
 #include "plugin/vehicle_pipeline.h"
 
-#include <stdexcept>
-
 namespace dslam {
 
 VehiclePipeline::VehiclePipeline(const RunConfig& config, const PinholeCamera& camera, double frame_rate_hz)
-    : config_(config),
-      camera_(camera),
-      classifier_(config.classifier, frame_rate_hz),
-      estimator_(config.backend, frame_rate_hz) {
+    : config_(config), camera_(camera), backend_(config, frame_rate_hz) {
   config_.validate();
   config_.frontend.frame_interval_s = 1.0 / frame_rate_hz;
-  sequence_.frame_rate_hz = frame_rate_hz;
 }
 
 FrameEstimate VehiclePipeline::process(const ImageFrame& frame_in) {
@@ -23,14 +17,7 @@ FrameEstimate VehiclePipeline::process(const ImageFrame& frame_in) {
   ImageFrame frame = frame_in;
   frame.frame_index = framesProcessed();
   FrameMeasurement m = frontend_->process(frame);
-  if (!sequence_.frames.empty()) classifier_.label(sequence_.frames.back(), &m);
-  estimator_.addFrame(m);
-  sequence_.frames.push_back(std::move(m));
-  FrameEstimate latest = estimator_.latest();
-  latest.t_ns = frame.t_ns;
-  return latest;
+  return backend_.add(&m);
 }
-
-Estimate VehiclePipeline::finish() { return estimator_.finish(); }
 
 }  // namespace dslam

@@ -1,0 +1,37 @@
+#pragma once
+// Ours as an online back-end stage: each frame's measurement is labelled by the scene-flow classifier
+// (against the previous frame's) and added to the estimator, and the newest frame's estimate comes back
+// at once. It computes what `dslam run` computes for ours (RunSequence labels every frame, then adds them
+// in the same order), one frame at a time, keeping only the previous frame's measurement.
+
+#include <optional>
+
+#include "backend/estimator.h"
+#include "backend/methods.h"
+#include "frontend/dynamic_object_classifier.h"
+#include "pipeline/run_config.h"
+
+namespace dslam {
+
+class OnlineBackend {
+ public:
+  OnlineBackend(const RunConfig& config, double frame_rate_hz);
+
+  // Labels `frame` in place (its objects' static/dynamic decision) and adds it; returns the newest
+  // frame's estimate, stamped with the frame's stamp.
+  FrameEstimate add(FrameMeasurement* frame);
+
+  int framesAdded() const { return frames_added_; }
+  // Call once, after the last frame: the final estimate, each frame's online estimate, the per-frame
+  // solve times and the time spent in add() and finish().
+  MethodResult finish();
+
+ private:
+  DynamicObjectClassifier classifier_;
+  Estimator estimator_;
+  std::optional<FrameMeasurement> previous_;
+  MethodResult result_;
+  int frames_added_ = 0;
+};
+
+}  // namespace dslam

@@ -1,0 +1,98 @@
+#include "pipeline/staged_pipeline.h"
+
+#include <chrono>
+#include <stdexcept>
+
+namespace dslam {
+
+StagedPipeline::StagedPipeline(const RunConfig& config, const PinholeCamera& camera, double frame_rate_hz,
+                               size_t queue_capacity, StagedPipelineCallbacks callbacks)
+    : config_(config),
+      camera_(camera),
+      frame_rate_hz_(frame_rate_hz),
+      callbacks_(std::move(callbacks)),
+      frames_(queue_capacity),
+      measurements_(queue_capacity),
+      backend_(config, frame_rate_hz) {
+  config_.validate();
+  if (!(frame_rate_hz > 0.0)) throw std::invalid_argument("the pipeline needs a positive frame rate");
+  config_.frontend.frame_interval_s = 1.0 / frame_rate_hz;
+  frontend_thread_ = std::thread([this] { runFrontend(); });
+  backend_thread_ = std::thread([this] { runBackend(); });
+}
+
+StagedPipeline::~StagedPipeline() {
+  abort_ = true;
+  frames_.close();
+  measurements_.close();
+  if (frontend_thread_.joinable()) frontend_thread_.join();
+  if (backend_thread_.joinable()) backend_thread_.join();
+}
+
+bool StagedPipeline::push(ImageFrame frame) { return frames_.push(std::move(frame)); }
+
+void StagedPipeline::fail(std::exception_ptr error) {
+  {
+    std::lock_guard<std::mutex> lock(error_mutex_);
+    if (!error_) error_ = error;
+  }
+  frames_.close();
+  measurements_.close();
+}
+
+void StagedPipeline::runFrontend() {
+  int accepted = 0;
+  while (std::optional<ImageFrame> frame = frames_.pop()) {
+    if (abort_) return;
+    try {
+      if (!frontend_) {
+        if (camera_.width == 0 || camera_.height == 0) camera_.width = frame->image.cols, camera_.height = frame->image.rows;
+        frontend_ = std::make_unique<ImageFrontend>(config_.frontend, camera_);
+      }
+      frame->frame_index = accepted;  // the back-end numbers frames 0, 1, 2, ... as they reach it
+      const auto start = std::chrono::steady_clock::now();
+      FrameMeasurement m;
+      try {
+        m = frontend_->process(*frame);
+      } catch (const std::invalid_argument& e) {
+        if (!callbacks_.on_rejected) throw;
+        callbacks_.on_rejected(*frame, e.what());
+        continue;
+      }
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      ++accepted;
+      if (callbacks_.on_measurement) callbacks_.on_measurement(m, frontend_->lastStats(), ms);
+      if (!measurements_.push(std::move(m))) return;
+    } catch (...) {
+      fail(std::current_exception());
+      return;
+    }
+  }
+  measurements_.close();  // every frame pushed went through: let the back-end drain and stop
+}
+
+void StagedPipeline::runBackend() {
+  while (std::optional<FrameMeasurement> m = measurements_.pop()) {
+    if (abort_) return;
+    try {
+      const FrameEstimate estimate = backend_.add(&*m);
+      if (callbacks_.on_estimate) callbacks_.on_estimate(estimate, *m);
+    } catch (...) {
+      fail(std::current_exception());
+      return;
+    }
+  }
+}
+
+MethodResult StagedPipeline::finish() {
+  frames_.close();  // no more frames; the front-end drains its queue, then closes the back-end's
+  if (frontend_thread_.joinable()) frontend_thread_.join();
+  if (backend_thread_.joinable()) backend_thread_.join();
+  {
+    std::lock_guard<std::mutex> lock(error_mutex_);
+    if (error_) std::rethrow_exception(error_);
+  }
+  return backend_.finish();
+}
+
+}  // namespace dslam

@@ -1,0 +1,73 @@
+#pragma once
+// One camera's online pipeline with its stages in parallel (basalt's way): the image front-end and the
+// back-end (OnlineBackend: classifier and ours) each run on their own thread, joined by bounded queues of
+// value packets (ImageFrame in, FrameMeasurement between). A frame goes through the same code in the same
+// order as in VehiclePipeline, so the estimates are the same; only the stages overlap in time.
+//
+// Both queues apply back-pressure (push waits) instead of dropping: a measurement refers to the previous
+// frame's tracks, pose and per-frame object motion, so a dropped packet would corrupt the next one.
+// Whoever feeds the pipeline drops frames before it, where the frames' odometry can still be composed
+// (the DDS frame assembler drops the oldest incomplete or waiting sets and counts them).
+
+#include <atomic>
+#include <exception>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "frontend/image_frame.h"
+#include "frontend/image_frontend.h"
+#include "pipeline/bounded_queue.h"
+#include "pipeline/online_backend.h"
+#include "pipeline/run_config.h"
+
+namespace dslam {
+
+struct StagedPipelineCallbacks {
+  // Front-end thread, after each frame it accepted: the measurement (not yet classified), the
+  // front-end's statistics of the frame and its front-end time in ms.
+  std::function<void(const FrameMeasurement&, const FrontendFrameStats&, double)> on_measurement;
+  // Back-end thread, after each frame: its estimate and its classified measurement.
+  std::function<void(const FrameEstimate&, const FrameMeasurement&)> on_estimate;
+  // Front-end thread, for a frame the front-end rejected (the next good frame continues from the last
+  // good one). When not set, a rejected frame stops the pipeline and finish() throws its error.
+  std::function<void(const ImageFrame&, const std::string&)> on_rejected;
+};
+
+class StagedPipeline {
+ public:
+  // `camera`: its size is taken from the first frame when width/height are 0. `queue_capacity`: frames
+  // waiting before each stage.
+  StagedPipeline(const RunConfig& config, const PinholeCamera& camera, double frame_rate_hz, size_t queue_capacity,
+                 StagedPipelineCallbacks callbacks);
+  ~StagedPipeline();  // stops both stages (what is still queued is not processed)
+  StagedPipeline(const StagedPipeline&) = delete;
+  StagedPipeline& operator=(const StagedPipeline&) = delete;
+
+  // Waits while the front-end's queue is full; false once the pipeline stopped (an error, or finish()).
+  bool push(ImageFrame frame);
+  // Processes everything pushed, joins the stages and returns ours' result; throws a stage's error.
+  MethodResult finish();
+
+ private:
+  void runFrontend();
+  void runBackend();
+  void fail(std::exception_ptr error);
+
+  RunConfig config_;
+  PinholeCamera camera_;
+  double frame_rate_hz_;
+  StagedPipelineCallbacks callbacks_;
+  BoundedQueue<ImageFrame> frames_;
+  BoundedQueue<FrameMeasurement> measurements_;
+  std::unique_ptr<ImageFrontend> frontend_;
+  OnlineBackend backend_;
+  std::mutex error_mutex_;
+  std::exception_ptr error_;
+  std::atomic<bool> abort_{false};  // the destructor: stop without draining
+  std::thread frontend_thread_, backend_thread_;
+};
+
+}  // namespace dslam

@@ -1,0 +1,124 @@
+// The staged pipeline (front-end and back-end on their own threads) computes what the sequential
+// pipeline computes, frame by frame; a rejected frame is reported and skipped, or stops the run.
+#include "pipeline/staged_pipeline.h"
+
+#include <gtest/gtest.h>
+
+#include <mutex>
+
+#include "app/run_command.h"
+#include "pipeline/image_run.h"
+#include "pipeline/run_sequence.h"
+#include "plugin/vehicle_pipeline.h"
+#include "support/rendered_city.h"
+
+namespace dslam {
+namespace {
+
+RunConfig RunDefaults() {
+  RunConfig config;
+  config.backend.default_mode = ParseMotionMode(kRunDefaultMode);
+  config.backend.schedule = ParseSchedule(RunCommandOptions().schedule.value());
+  return config;
+}
+
+void ExpectSame(const FrameEstimate& a, const FrameEstimate& b) {
+  EXPECT_EQ(a.t_ns, b.t_ns);
+  EXPECT_EQ(a.frame, b.frame);
+  EXPECT_EQ((a.T_world_camera.translation() - b.T_world_camera.translation()).norm(), 0.0) << a.frame;
+  ASSERT_EQ(a.object_motions.size(), b.object_motions.size()) << a.frame;
+  for (size_t i = 0; i < a.object_motions.size(); ++i) {
+    EXPECT_EQ(a.object_motions[i].object_id, b.object_motions[i].object_id);
+    EXPECT_EQ(a.object_motions[i].speed_mps, b.object_motions[i].speed_mps);
+  }
+}
+
+TEST(StagedPipeline, EqualsTheSequentialPipelineAndSkipsARejectedFrame) {
+  const std::string dir = test::RenderedCity("staged_city", 12);
+  const RunConfig config = RunDefaults();
+  const ImageDataset data(dir, config.dataset);
+
+  VehiclePipeline sequential(config, data.camera(), data.frameRateHz());
+  std::vector<FrameEstimate> reference;
+  for (int k = 0; k < data.size(); ++k) reference.push_back(sequential.process(data.read(k)));
+
+  std::mutex mutex;
+  std::vector<FrameEstimate> estimates;
+  std::vector<std::string> rejections;
+  int measurements = 0;
+  StagedPipelineCallbacks callbacks;
+  callbacks.on_measurement = [&](const FrameMeasurement& m, const FrontendFrameStats&, double ms) {
+    EXPECT_EQ(m.frame_index, measurements++);
+    EXPECT_GE(ms, 0.0);
+  };
+  callbacks.on_estimate = [&](const FrameEstimate& e, const FrameMeasurement& m) {
+    std::lock_guard<std::mutex> lock(mutex);
+    EXPECT_EQ(e.t_ns, m.t_ns);
+    estimates.push_back(e);
+  };
+  callbacks.on_rejected = [&](const ImageFrame& f, const std::string& reason) {
+    std::lock_guard<std::mutex> lock(mutex);
+    rejections.push_back(reason);
+  };
+  // Capacity 1: the producer waits on the front-end and the front-end on the back-end all along.
+  StagedPipeline staged(config, data.camera(), data.frameRateHz(), 1, callbacks);
+  for (int k = 0; k < data.size(); ++k) {
+    if (k == 5) {
+      ImageFrame bad = data.read(k);
+      bad.depth_m = cv::Mat(10, 10, CV_32FC1, cv::Scalar(1.0f));  // another size than the image
+      ASSERT_TRUE(staged.push(bad));
+    }
+    ASSERT_TRUE(staged.push(data.read(k)));
+  }
+  const MethodResult result = staged.finish();
+  ASSERT_EQ(rejections.size(), 1u);
+  EXPECT_NE(rejections[0].find("depth"), std::string::npos) << rejections[0];
+  ASSERT_EQ(estimates.size(), reference.size());
+  for (size_t k = 0; k < reference.size(); ++k) ExpectSame(estimates[k], reference[k]);
+  ASSERT_EQ(result.online.size(), reference.size());
+  const MethodResult sequential_result = sequential.finish();
+  ASSERT_EQ(result.estimate.T_world_camera.size(), sequential_result.estimate.T_world_camera.size());
+  for (size_t k = 0; k < result.estimate.T_world_camera.size(); ++k)
+    EXPECT_EQ((result.estimate.T_world_camera[k].translation() - sequential_result.estimate.T_world_camera[k].translation())
+                  .norm(),
+              0.0);
+  EXPECT_FALSE(staged.push(data.read(0)));  // finished
+}
+
+TEST(StagedPipeline, WithoutARejectionHandlerABadFrameStopsItAndFinishThrowsTheError) {
+  const std::string dir = test::RenderedCity("staged_city", 12);
+  const RunConfig config = RunDefaults();
+  const ImageDataset data(dir, config.dataset);
+  StagedPipeline staged(config, data.camera(), data.frameRateHz(), 2, {});
+  ASSERT_TRUE(staged.push(data.read(0)));
+  ImageFrame bad = data.read(1);
+  bad.depth_m = cv::Mat(10, 10, CV_32FC1, cv::Scalar(1.0f));
+  staged.push(bad);
+  bool refused = false;  // the front-end stopped: pushes fail soon after
+  for (int i = 0; i < 200 && !refused; ++i) refused = !staged.push(data.read(2));
+  EXPECT_TRUE(refused);
+  EXPECT_THROW(staged.finish(), std::invalid_argument);
+}
+
+TEST(StagedPipeline, TheImageRunsOursInParallelAndGetsWhatTheSequentialMethodGets) {
+  const std::string dir = test::RenderedCity("staged_city", 12);
+  const RunConfig config = RunDefaults();
+  const ImageDataset data(dir, config.dataset);
+  MethodResult ours;
+  ImageRunSummary summary;
+  const Sequence seq = RunImageFrontend(data, config, 0, nullptr, &summary, nullptr, &ours);
+  ASSERT_EQ(seq.frames.size(), 12u);
+  EXPECT_EQ(summary.frames, 12);
+  RunSequenceOptions run;
+  run.methods = {Method::kOurs};
+  run.evaluate = false;
+  const MethodResult sequential = RunSequence(seq, config, run).at(Method::kOurs).result;
+  ASSERT_EQ(ours.online.size(), sequential.online.size());
+  for (size_t k = 0; k < ours.online.size(); ++k) ExpectSame(ours.online[k], sequential.online[k]);
+  ASSERT_EQ(ours.estimate.object_motions.size(), sequential.estimate.object_motions.size());
+  for (size_t i = 0; i < ours.estimate.object_motions.size(); ++i)
+    EXPECT_EQ(ours.estimate.object_motions[i].speed_mps, sequential.estimate.object_motions[i].speed_mps);
+}
+
+}  // namespace
+}  // namespace dslam
