@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "output/object_summary.h"
+#include "output/streaming_sink.h"
 #include "pipeline/image_run.h"
 #include "pipeline/run_sequence.h"
 
@@ -45,9 +46,12 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
     const bool with_ours = std::find(run.methods.begin(), run.methods.end(), Method::kOurs) != run.methods.end();
 
     // Ours runs online, its back-end in parallel with the front-end; the baselines run afterwards.
+    // Its result files grow as the estimates leave the window (a crash loses only the window); they are
+    // written again whole, with the ground truth, at the end.
     MethodResult ours;
+    StreamingFileSink stream(options.out_dir);
     const Sequence seq = RunImageFrontend(dataset, config, options.frames, options.quiet ? nullptr : &out, &summary,
-                                          &frame_log, with_ours ? &ours : nullptr);
+                                          &frame_log, with_ours ? &ours : nullptr, with_ours ? &stream : nullptr);
     if (with_ours) run.precomputed[Method::kOurs] = std::move(ours);
     run.evaluate = summary.has_ground_truth;
     const MethodOutcomes outcomes = RunSequence(seq, config, run);

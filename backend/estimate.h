@@ -51,4 +51,20 @@ class CollectingSink : public EstimateSink {
   Estimate estimate;
 };
 
+// Hands every estimate to each of its sinks in turn (e.g. files as they become final, and a collection
+// for the evaluation at the end).
+class TeeSink : public EstimateSink {
+ public:
+  TeeSink(EstimateSink* a, EstimateSink* b) : a_(a), b_(b) {}
+  void cameraFinal(int frame, const SE3& T_world_camera) override {
+    a_->cameraFinal(frame, T_world_camera), b_->cameraFinal(frame, T_world_camera);
+  }
+  void motionFinal(const ObjectMotionEstimate& motion) override { a_->motionFinal(motion), b_->motionFinal(motion); }
+  void pointFinal(const PointEstimate& point) override { a_->pointFinal(point), b_->pointFinal(point); }
+
+ private:
+  EstimateSink* a_;
+  EstimateSink* b_;
+};
+
 }  // namespace dslam

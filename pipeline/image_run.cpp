@@ -85,7 +85,8 @@ double SecondsSince(Clock::time_point t0) { return std::chrono::duration<double>
 }  // namespace
 
 Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, int max_frames, std::ostream* progress,
-                          ImageRunSummary* summary, std::ostream* frame_log, MethodResult* ours) {
+                          ImageRunSummary* summary, std::ostream* frame_log, MethodResult* ours,
+                          StreamingFileSink* stream) {
   config.validate();
   const int frames = max_frames > 0 ? std::min(max_frames, dataset.size()) : dataset.size();
   Sequence seq;
@@ -109,7 +110,7 @@ Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, 
         *progress << "  ours: frame " << e.frame + 1 << "/" << frames << std::endl;
       }
     };
-    StagedPipeline pipeline(config, dataset.camera(), dataset.frameRateHz(), kQueueCapacity, callbacks);
+    StagedPipeline pipeline(config, dataset.camera(), dataset.frameRateHz(), kQueueCapacity, callbacks, stream);
     for (int k = 0; k < frames; ++k) {
       const auto t0 = Clock::now();
       ImageFrame frame = dataset.read(k);

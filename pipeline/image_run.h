@@ -9,6 +9,7 @@
 #include "data/sequence.h"
 #include "frontend/image_frontend.h"
 #include "backend/methods.h"
+#include "output/streaming_sink.h"
 #include "pipeline/run_config.h"
 
 namespace dslam {
@@ -30,8 +31,10 @@ struct ImageRunSummary {
 // (see FrontendFrameStats::ObjectCounts).
 // With `ours`, the stages run in parallel (pipeline/staged_pipeline.h): this thread reads and decodes the
 // files, the front-end and ours' back-end each run on their own thread, and `ours` receives ours' result
-// (the same as RunSequence computes from the returned measurements). Without it, the front-end runs here.
+// (the same as RunSequence computes from the returned measurements), and `stream`, when given, ours' result
+// files as the estimates become final (output/streaming_sink.h). Without `ours`, the front-end runs here.
 Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, int max_frames, std::ostream* progress,
-                          ImageRunSummary* summary, std::ostream* frame_log = nullptr, MethodResult* ours = nullptr);
+                          ImageRunSummary* summary, std::ostream* frame_log = nullptr, MethodResult* ours = nullptr,
+                          StreamingFileSink* stream = nullptr);
 
 }  // namespace dslam

@@ -9,18 +9,30 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 }
 }  // namespace
 
-OnlineBackend::OnlineBackend(const RunConfig& config, double frame_rate_hz)
-    : classifier_(config.classifier, frame_rate_hz), estimator_(config.backend, frame_rate_hz) {}
+EstimatorOptions OnlineBackend::SinkOptions(EstimateSink* sink) {
+  EstimatorOptions options;
+  options.sink = sink;
+  return options;
+}
+
+OnlineBackend::OnlineBackend(const RunConfig& config, double frame_rate_hz, StreamingFileSink* stream)
+    : stream_(stream),
+      tee_(&collected_, stream),
+      classifier_(config.classifier, frame_rate_hz),
+      // Without a stream the estimator collects by itself.
+      estimator_(config.backend, frame_rate_hz, SinkOptions(stream ? static_cast<EstimateSink*>(&tee_) : nullptr)) {}
 
 FrameEstimate OnlineBackend::add(FrameMeasurement* frame) {
   const auto start = std::chrono::steady_clock::now();
   if (previous_) classifier_.label(*previous_, frame);
+  if (stream_) stream_->frameStamp(frames_added_, frame->t_ns);
   estimator_.addFrame(*frame);
   previous_ = *frame;
   ++frames_added_;
   FrameEstimate latest = estimator_.latest();
   latest.t_ns = frame->t_ns;
   result_.online.push_back(latest);
+  if (stream_) stream_->onlinePose(latest.t_ns, latest.T_world_camera);
   result_.wall_time_s += SecondsSince(start);
   return latest;
 }
@@ -28,6 +40,10 @@ FrameEstimate OnlineBackend::add(FrameMeasurement* frame) {
 MethodResult OnlineBackend::finish() {
   const auto start = std::chrono::steady_clock::now();
   result_.estimate = estimator_.finish();
+  if (stream_) {
+    result_.estimate = std::move(collected_.estimate);
+    stream_->flush();
+  }
   result_.solve_times_ms = estimator_.solveTimesMs();
   result_.wall_time_s += SecondsSince(start);
   return std::move(result_);

@@ -9,13 +9,18 @@
 #include "backend/estimator.h"
 #include "backend/methods.h"
 #include "frontend/dynamic_object_classifier.h"
+#include "output/streaming_sink.h"
 #include "pipeline/run_config.h"
 
 namespace dslam {
 
 class OnlineBackend {
  public:
-  OnlineBackend(const RunConfig& config, double frame_rate_hz);
+  // `stream`, when given, receives the final estimates as they leave the window and each frame's online
+  // pose (the result files of a run that is still going); the estimates are collected all the same.
+  OnlineBackend(const RunConfig& config, double frame_rate_hz, StreamingFileSink* stream = nullptr);
+  OnlineBackend(const OnlineBackend&) = delete;
+  OnlineBackend& operator=(const OnlineBackend&) = delete;
 
   // Labels `frame` in place (its objects' static/dynamic decision) and adds it; returns the newest
   // frame's estimate, stamped with the frame's stamp.
@@ -27,6 +32,11 @@ class OnlineBackend {
   MethodResult finish();
 
  private:
+  static EstimatorOptions SinkOptions(EstimateSink* sink);
+
+  StreamingFileSink* stream_;
+  CollectingSink collected_;
+  TeeSink tee_;
   DynamicObjectClassifier classifier_;
   Estimator estimator_;
   std::optional<FrameMeasurement> previous_;

@@ -63,6 +63,7 @@ class Vehicle {
         options_(options),
         assembler_(options.assembler),
         inbox_(kInboxSamplesPerFrame * static_cast<size_t>(options.assembler.max_pending)),
+        stream_(ResultDir(options, name)),
         colour_listener_(this, ImageRole::kColour),
         depth_listener_(this, ImageRole::kDepth),
         mask_listener_(this, ImageRole::kMask),
@@ -83,7 +84,7 @@ class Vehicle {
       wake_.notify_one();  // the feeder reports the rejection
     };
     pipeline_ = std::make_unique<StagedPipeline>(config, options.camera, options.frame_rate_hz,
-                                                 static_cast<size_t>(options.assembler.max_pending), callbacks);
+                                                 static_cast<size_t>(options.assembler.max_pending), callbacks, &stream_);
     intake_ = std::thread([this] { runIntake(); });
     feeder_ = std::thread([this] { runFeeder(); });
     session.reader(topics.colour, new sensor_msgs::msg::ImagePubSubType(), "sensor_reader", &colour_listener_);
@@ -122,7 +123,7 @@ class Vehicle {
   }
 
   void writeResults(std::ostream& log) {
-    const std::string dir = options_.out_dir + "/" + (name_.empty() ? "default" : name_);
+    const std::string dir = ResultDir(options_, name_);
     stop();
     if (!pipeline_failure_.empty()) log << "vehicle '" << name_ << "': the pipeline failed: " << pipeline_failure_ << std::endl;
     const int frames = static_cast<int>(sequence_.frames.size());
@@ -147,6 +148,10 @@ class Vehicle {
   }
 
  private:
+  static std::string ResultDir(const ServeOptions& options, const std::string& name) {
+    return options.out_dir + "/" + (name.empty() ? "default" : name);
+  }
+
   // Up to this many samples (colour, depth, mask, odometry and some slack) per waiting frame in the inbox.
   static constexpr size_t kInboxSamplesPerFrame = 6;
 
@@ -307,6 +312,7 @@ class Vehicle {
   // Drops and rejections as of the last status message, to publish a new one when one more happens.
   uint64_t published_problems_ = 0;
   BoundedQueue<Sample> inbox_;
+  StreamingFileSink stream_;  // the results as they become final; rewritten whole at the end
   std::unique_ptr<StagedPipeline> pipeline_;
   std::optional<MethodResult> result_;  // once stopped
   std::string pipeline_failure_;

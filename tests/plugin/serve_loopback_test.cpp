@@ -21,6 +21,7 @@
 #include "plugin/frame_assembler.h"
 #include "plugin/image_message.h"
 #include "plugin/topics.h"
+#include "output/trajectory_io.h"
 #include "plugin/vehicle_pipeline.h"
 #include "sensor_msgs_ImagePubSubTypes.h"
 #include "support/child_process.h"
@@ -147,7 +148,7 @@ class Listener {
 
 // What serve must compute: the dataset's frames through the same message round trip and assembly,
 // then the online pipeline (as `dslam run` computes ours).
-std::vector<FrameEstimate> Reference(const std::string& dir) {
+std::vector<FrameEstimate> Reference(const std::string& dir, MethodResult* final_result = nullptr) {
   RunConfig config;
   config.backend.default_mode = MotionMode::kSmoothed;
   config.backend.schedule = {ScheduleKind::kSlidingWindow, 10};
@@ -172,6 +173,7 @@ std::vector<FrameEstimate> Reference(const std::string& dir) {
     assembler.addOdometry(f.t_ns, *DecodeOdometry(EncodeOdometry(T_odom_camera, f.t_ns, "o", "c", sigma), Vec6::Constant(0.01), &error));
     for (const ImageFrame& ready : assembler.takeReady()) out.push_back(pipeline.process(ready));
   }
+  if (final_result) *final_result = pipeline.finish();
   return out;
 }
 
@@ -255,6 +257,31 @@ TEST(ServeLoopback, EstimatesEqualTheRecordedRunAndSigtermWritesTheResults) {
   EXPECT_EQ(lines, 100);
   EXPECT_TRUE(fs::exists(out + "/default/camera_ours_online.tum"));
   EXPECT_NE(test::ReadFile(test::TempPath("serve.log")).find("100 frames, results written to"), std::string::npos);
+}
+
+TEST(ServeLoopback, SigkillLeavesEveryFrameThatLeftTheWindowOnDisk) {
+  const std::string dataset = CityDataset(30, 1);
+  const int domain = test::DomainFor(test::DdsTestSlot::kLoopbackSigkill);
+  const std::string out = test::TempPath("serve_kill_out");
+  test::Process serve(ServeArgs(domain, dataset, out), test::TempPath("serve_kill.log"));
+  Listener listener(domain, "");
+  test::Process publish(PublishArgs(domain, dataset, "10"), test::TempPath("publish_kill.log"));
+  ASSERT_TRUE(listener.waitFor(20, 120s)) << listener.summary();
+  serve.signal(SIGKILL);  // no handler runs: only what was streamed is there
+  serve.wait(30s);
+  std::vector<int64_t> t_ns;
+  const std::vector<SE3> streamed = ReadTumTrajectory(out + "/default/camera_ours.tum", &t_ns);
+  MethodResult full;
+  const std::vector<FrameEstimate> online = Reference(dataset, &full);
+  // At least the frames that left the window (10 frames) of the 20 estimated, each equal to the final pose
+  // of an uninterrupted run (to the 1e-9 m of the file's fixed 9 decimals).
+  ASSERT_GE(streamed.size(), 10u);
+  ASSERT_LT(streamed.size(), 30u);
+  for (size_t k = 0; k < streamed.size(); ++k) {
+    EXPECT_EQ(t_ns[k] / 1000, online[k].t_ns / 1000) << k;
+    EXPECT_LT((streamed[k].translation() - full.estimate.T_world_camera[k].translation()).norm(), 2e-9) << k;
+  }
+  EXPECT_GE(ReadTumTrajectory(out + "/default/camera_ours_online.tum").size(), 20u);
 }
 
 TEST(ServeLoopback, BadSamplesAreRejectedAndCountedAndServeKeepsRunning) {
