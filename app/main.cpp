@@ -148,7 +148,10 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   serve_cmd->add_option("--vehicle", serve.vehicles,
                         "Vehicle topic namespace (rt/NAME/camera/...); repeat for several (default: none)");
-  serve_cmd->add_option("--domain", serve.domain_id, "DDS domain id")->capture_default_str();
+  // 0..232: the highest domain id whose RTPS ports fit in UDP's port range.
+  serve_cmd->add_option("--domain", serve.domain_id, "DDS domain id (0-232)")
+      ->check(CLI::Range(0, 232))
+      ->capture_default_str();
   serve_cmd->add_option("--profiles", serve.profiles_file, "Fast DDS XML profiles (QoS, transports, security)")
       ->check(CLI::ExistingFile)
       ->capture_default_str();
@@ -182,7 +185,9 @@ int main(int argc, char** argv) {
   publish_cmd->add_option("--seq", publish.sequence, "KITTI tracking layout: sequence number");
   publish_cmd->add_option("--rate", publish.publish.rate_hz, "Frames per second")->capture_default_str();
   publish_cmd->add_option("--vehicle", publish.publish.vehicle, "Vehicle topic namespace (default: none)");
-  publish_cmd->add_option("--domain", publish.publish.domain_id, "DDS domain id")->capture_default_str();
+  publish_cmd->add_option("--domain", publish.publish.domain_id, "DDS domain id (0-232)")
+      ->check(CLI::Range(0, 232))
+      ->capture_default_str();
   publish_cmd->add_option("--profiles", publish.publish.profiles_file, "Fast DDS XML profiles")
       ->check(CLI::ExistingFile)
       ->capture_default_str();
@@ -193,7 +198,25 @@ int main(int argc, char** argv) {
   publish_cmd->add_option("--wait", publish.publish.wait_for_reader_s, "Seconds to wait for a reader first")
       ->capture_default_str();
 
-  CLI11_PARSE(app, argc, argv);
+  // An unknown command is named (CLI11 would only say that one is required).
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string names;
+    bool known = false;
+    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+      known = known || sub->get_name() == argv[1];
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (!known) {
+      std::cerr << "dslam: unknown command '" << argv[1] << "' (commands: " << names << ")" << std::endl;
+      return 2;
+    }
+  }
+  // Bad options exit with status 2, as every other bad input (CLI11's own codes are 105-109).
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
   if (serve_cmd->parsed()) return dslam::RunServeCommand(serve, std::cout, std::cerr);
   if (publish_cmd->parsed()) return dslam::RunPublishCommand(publish, std::cout, std::cerr);
   if (run_cmd->parsed()) return dslam::RunRunCommand(run, std::cout, std::cerr);

@@ -85,12 +85,24 @@ class Vehicle {
     };
     pipeline_ = std::make_unique<StagedPipeline>(config, options.camera, options.frame_rate_hz,
                                                  static_cast<size_t>(options.assembler.max_pending), callbacks, &stream_);
+    // Readers first: when one cannot be created (a missing profile, security denying the topic) the
+    // constructor throws before any thread of ours runs. Samples that arrive meanwhile wait in the inbox.
+    std::vector<dds::DataReader*> readers;
+    try {
+      readers.push_back(
+          session.reader(topics.colour, new sensor_msgs::msg::ImagePubSubType(), "sensor_reader", &colour_listener_));
+      readers.push_back(
+          session.reader(topics.depth, new sensor_msgs::msg::ImagePubSubType(), "sensor_reader", &depth_listener_));
+      readers.push_back(
+          session.reader(topics.mask, new sensor_msgs::msg::ImagePubSubType(), "sensor_reader", &mask_listener_));
+      readers.push_back(
+          session.reader(topics.odometry, new nav_msgs::msg::OdometryPubSubType(), "sensor_reader", &odometry_listener_));
+    } catch (...) {
+      for (dds::DataReader* r : readers) r->set_listener(nullptr);  // they outlive this half-built vehicle
+      throw;
+    }
     intake_ = std::thread([this] { runIntake(); });
     feeder_ = std::thread([this] { runFeeder(); });
-    session.reader(topics.colour, new sensor_msgs::msg::ImagePubSubType(), "sensor_reader", &colour_listener_);
-    session.reader(topics.depth, new sensor_msgs::msg::ImagePubSubType(), "sensor_reader", &depth_listener_);
-    session.reader(topics.mask, new sensor_msgs::msg::ImagePubSubType(), "sensor_reader", &mask_listener_);
-    session.reader(topics.odometry, new nav_msgs::msg::OdometryPubSubType(), "sensor_reader", &odometry_listener_);
   }
 
   ~Vehicle() { stop(); }

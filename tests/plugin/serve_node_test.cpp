@@ -1,0 +1,39 @@
+// ServeNode's construction fails cleanly: an error naming what could not be created, no thread left
+// running (a reader that cannot be created used to end in std::terminate).
+#include "plugin/serve_node.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "support/child_process.h"
+#include "support/dds_domain.h"
+#include "support/temp_paths.h"
+
+namespace dslam {
+namespace {
+
+TEST(ServeNode, AReaderThatCannotBeCreatedIsAnErrorNotACrash) {
+  std::string xml = test::ReadFile(std::string(DSLAM_SOURCE_DIR) + "/config/dds_profiles.xml");
+  const std::string from = "profile_name=\"sensor_reader\"";
+  const size_t at = xml.find(from);
+  ASSERT_NE(at, std::string::npos);
+  xml.replace(at, from.size(), "profile_name=\"renamed_reader\"");
+  const std::string profiles = test::TempPath("no_sensor_reader.xml");
+  std::ofstream(profiles) << xml;
+
+  ServeOptions options;
+  options.domain_id = test::DomainFor(test::DdsTestSlot::kServeNodeErrors);
+  options.profiles_file = profiles;
+  options.vehicles = {"a", "b"};
+  options.out_dir = test::TempPath("serve_node_out");
+  try {
+    ServeNode node(options, RunConfig{});
+    FAIL() << "a serve node without its sensor reader profile was created";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("sensor_reader"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace dslam
