@@ -79,11 +79,27 @@ struct SmoothnessEntry {
   Vec3 prev_fixed_anchor = Vec3::Zero();
 };
 
+// What marginalising an object point at frame m leaves of its factors (backend/marginalisation.h): a
+// linear (Gaussian) factor on the camera that measured it, its successor point at m+1 and the motion into
+// m+1, linearised at `*_lin`: r = r0 + J [cam (-) cam_lin; point - point_lin; H (-) H_lin], tangents as
+// the solver's ([dt; phi], rotation on the right). Whitened and robust-weighted already: plain squares.
+struct LinearPointFactor {
+  int camera_frame = -1;  // -1: the camera left the window; its columns were folded into r0
+  int point_var = -1;
+  int motion_var = -1;
+  PoseBlock camera_lin{};
+  Vec3 point_lin = Vec3::Zero();
+  PoseBlock motion_lin{};  // of H_anchor
+  Eigen::Matrix<double, 6, 15> J = Eigen::Matrix<double, 6, 15>::Zero();  // columns: camera, point, motion
+  Vec6 r0 = Vec6::Zero();
+};
+
 struct FrameFactors {
   std::optional<OdometryEntry> odometry;  // links frame k-1 and k
   std::vector<PointMeasurementEntry> measurements;
   std::vector<PointMotionEntry> point_motions;
   std::vector<SmoothnessEntry> smoothness;
+  std::vector<LinearPointFactor> linear_factors;  // from object points at k-1 that left the object window
 };
 
 // One object over one frame transition k-1 -> k, as the builder decided it.

@@ -1,6 +1,7 @@
 #include "backend/marginalisation.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/QR>
 
 #include <optional>
 #include <unordered_map>
@@ -25,6 +26,15 @@ std::optional<Vec3> Centroid(const FactorGraph& graph, const std::vector<int>& v
   }
   if (n == 0) return std::nullopt;
   return sum / static_cast<double>(n);
+}
+
+// The residual of a linear factor at the graph's current values.
+Vec6 LinearFactorResidual(const FactorGraph& graph, const LinearPointFactor& lf) {
+  Eigen::Matrix<double, 15, 1> d = Eigen::Matrix<double, 15, 1>::Zero();
+  if (lf.camera_frame >= 0) d.head<6>() = PoseBlockMinus(graph.camera(lf.camera_frame), lf.camera_lin.data());
+  d.segment<3>(6) = graph.points.at(lf.point_var).position() - lf.point_lin;
+  d.tail<6>() = PoseBlockMinus(graph.motions.at(lf.motion_var).H_anchor.data(), lf.motion_lin.data());
+  return lf.r0 + lf.J * d;
 }
 
 // Information of a camera's measurement of a point, camera held at its estimate: the measurement is
@@ -63,42 +73,109 @@ void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, i
   for (auto& tr : graph->transitions)
     if (tr.frame == m + 1 && !tr.centroid_prev_world) tr.centroid_prev_world = Centroid(*graph, tr.prev_point_vars);
 
-  // Information of each object point whose last measurement is at m (camera and motion at their estimates).
-  std::unordered_map<int, Mat3> information;
+  // Each object point whose last measurement is at m is marginalised. Its factors that involve only it
+  // (its prior, the factor from its predecessor with the motion at its estimate, the linear factor its
+  // predecessor left, with that camera and motion at their estimates) fold into one 3-row unary; with its
+  // measurement (camera m) and the ternary factor to its successor, eliminating the point leaves a 6-row
+  // linear factor on (camera m, successor, motion into m+1): the camera keeps the object's constraint.
+  const double inv_motion_sigma = 1.0 / params.noise.motion_sigma_m;
+  struct Unary {
+    Mat3 info = Mat3::Zero();
+    Vec3 gradient = Vec3::Zero();
+  };
+  std::unordered_map<int, Unary> unary;
+  std::unordered_map<int, const PointMeasurementEntry*> measurement;
   for (const auto& e : fm.measurements) {
     const PointVariable& var = graph->points.at(e.point_var);
     if (var.object_id < 0 || var.last_frame != m) continue;
-    auto [it, is_new] = information.try_emplace(e.point_var, var.prior_info);
-    it->second += MeasurementInformation(R, t, e, var.position(), huber);
+    auto [it, is_new] = unary.try_emplace(e.point_var);
+    if (is_new) {
+      it->second.info = var.prior_info;
+      it->second.gradient = var.prior_info * var.position() - var.prior_info_vec;
+    }
+    if (!measurement.emplace(e.point_var, &e).second) {
+      // A second measurement at m (not made by the builder): camera held at its estimate.
+      Mat3 J_point;
+      const Vec3 r = PointMeasurementResidual(R, t, var.position(), e.z_camera, e.sigma_m.cwiseInverse(), nullptr, &J_point);
+      const double w = huber.weight(r.squaredNorm());
+      it->second.info += w * J_point.transpose() * J_point;
+      it->second.gradient += w * J_point.transpose() * r;
+    }
   }
-  const double inv_motion_sigma = 1.0 / params.noise.motion_sigma_m;
   for (const auto& pm : fm.point_motions) {
-    const auto it = information.find(pm.curr_point_var);
-    if (it == information.end()) continue;
+    const auto it = unary.find(pm.curr_point_var);
+    if (it == unary.end()) continue;
     const MotionVariable& H = graph->motions.at(pm.motion_var);
     const Mat3 S = pm.prev_point_var >= 0 ? Mat3(Mat3::Identity() * inv_motion_sigma) : pm.sqrt_info;
     const Vec3 prev = pm.prev_point_var >= 0 ? graph->points.at(pm.prev_point_var).position() : pm.prev_mean_world;
+    Mat3 J_curr;
     const Vec3 r = PointMotionResidual(BlockRotationMatrix(H.H_anchor.data()), BlockTranslation(H.H_anchor.data()),
                                        H.anchor_world, prev, graph->points.at(pm.curr_point_var).position(), S, nullptr,
-                                       nullptr, nullptr);
-    it->second += huber.weight(r.squaredNorm()) * S.transpose() * S;
+                                       &J_curr, nullptr);
+    const double w = huber.weight(r.squaredNorm());
+    it->second.info += w * J_curr.transpose() * J_curr;
+    it->second.gradient += w * J_curr.transpose() * r;
+  }
+  for (const auto& lf : fm.linear_factors) {
+    const auto it = unary.find(lf.point_var);
+    if (it == unary.end()) continue;
+    const Vec6 r = LinearFactorResidual(*graph, lf);
+    const Eigen::Matrix<double, 6, 3> J_point = lf.J.middleCols<3>(6);
+    it->second.info += J_point.transpose() * J_point;
+    it->second.gradient += J_point.transpose() * r;
   }
 
-  // Their successors' ternary factors become binary factors with the marginal folded into the noise.
   if (m + 1 < graph->numFrames()) {
-    const double motion_var_sq = params.noise.motion_sigma_m * params.noise.motion_sigma_m;
-    for (auto& pm : graph->frame(m + 1).point_motions) {
-      if (pm.prev_point_var < 0) continue;
-      const auto it = information.find(pm.prev_point_var);
-      if (it == information.end()) continue;
-      const Mat3 cov_prev = it->second.ldlt().solve(Mat3::Identity());
-      const Mat3 R_H = BlockRotationMatrix(graph->motions.at(pm.motion_var).H_anchor.data());
-      const Mat3 cov = motion_var_sq * Mat3::Identity() + R_H * cov_prev * R_H.transpose();
-      const Eigen::LLT<Mat3> llt(cov.inverse());
-      pm.prev_mean_world = graph->points.at(pm.prev_point_var).position();
-      pm.sqrt_info = llt.matrixU();
-      pm.prev_point_var = -1;
+    FrameFactors& next = graph->frame(m + 1);
+    std::vector<PointMotionEntry> kept_motions;
+    for (const auto& pm : next.point_motions) {
+      const auto u = pm.prev_point_var >= 0 ? unary.find(pm.prev_point_var) : unary.end();
+      const auto meas = u == unary.end() ? measurement.end() : measurement.find(pm.prev_point_var);
+      if (meas == measurement.end()) {
+        kept_motions.push_back(pm);
+        continue;
+      }
+      // Rows over [point (3) | camera m (6) | successor (3) | motion (6)], residual last.
+      Eigen::Matrix<double, 9, 19> A = Eigen::Matrix<double, 9, 19>::Zero();
+      const Mat3 info = u->second.info + 1e-12 * Mat3::Identity();
+      const Mat3 L = info.llt().matrixU();  // L^T L = info
+      A.block<3, 3>(0, 0) = L;
+      A.block<3, 1>(0, 18) = L.transpose().triangularView<Eigen::Lower>().solve(u->second.gradient);
+      const PointVariable& point = graph->points.at(pm.prev_point_var);
+      Mat3 J_point, J_prev, J_curr;
+      Mat36 J_cam, J_motion;
+      const PointMeasurementEntry& e = *meas->second;
+      Vec3 r = PointMeasurementResidual(R, t, point.position(), e.z_camera, e.sigma_m.cwiseInverse(), &J_cam, &J_point);
+      double w = huber.sqrtWeight(r.squaredNorm());
+      A.block<3, 3>(3, 0) = w * J_point;
+      A.block<3, 6>(3, 3) = w * J_cam;
+      A.block<3, 1>(3, 18) = w * r;
+      const MotionVariable& H = graph->motions.at(pm.motion_var);
+      const Vec3 successor = graph->points.at(pm.curr_point_var).position();
+      r = PointMotionResidual(BlockRotationMatrix(H.H_anchor.data()), BlockTranslation(H.H_anchor.data()), H.anchor_world,
+                              point.position(), successor, Mat3::Identity() * inv_motion_sigma, &J_prev, &J_curr,
+                              &J_motion);
+      w = huber.sqrtWeight(r.squaredNorm());
+      A.block<3, 3>(6, 0) = w * J_prev;
+      A.block<3, 3>(6, 9) = w * J_curr;
+      A.block<3, 6>(6, 12) = w * J_motion;
+      A.block<3, 1>(6, 18) = w * r;
+      // Eliminate the point: rotate its columns onto the first three rows; the other six rows no longer
+      // involve it and are the marginal, exactly (no information is dropped here).
+      const Eigen::HouseholderQR<Eigen::Matrix<double, 9, 3>> qr(A.leftCols<3>());
+      const Eigen::Matrix<double, 9, 16> rotated = qr.householderQ().transpose() * A.rightCols<16>();
+      LinearPointFactor lf;
+      lf.camera_frame = m;
+      lf.point_var = pm.curr_point_var;
+      lf.motion_var = pm.motion_var;
+      std::copy(cam, cam + kPoseBlockSize, lf.camera_lin.begin());
+      lf.point_lin = successor;
+      lf.motion_lin = H.H_anchor;
+      lf.J = rotated.block<6, 15>(3, 0);
+      lf.r0 = rotated.block<6, 1>(3, 15);
+      next.linear_factors.push_back(lf);
     }
+    next.point_motions.swap(kept_motions);
   }
 
   // Per-frame object points leave with their frame; points shared over frames (an object that was
@@ -117,6 +194,7 @@ void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, i
   fm.measurements.swap(kept);
   fm.point_motions.clear();
   fm.smoothness.clear();
+  fm.linear_factors.clear();
 
   while (!graph->transitions.empty() && graph->transitions.front().frame <= m) {
     const ObjectTransition& tr = graph->transitions.front();
@@ -155,7 +233,15 @@ void MarginaliseCameraFrame(const BackendParams& params, int m, FactorGraph* gra
     var.prior_info_vec += info * (t + R * e.z_camera);
   }
   for (int v : ended) graph->points.erase(v);
-  fm = FrameFactors{fm.odometry, {}, {}, {}};
+  // Linear factors on this camera (left by object points of frame m) keep it at its final value.
+  if (m + 1 < graph->numFrames())
+    for (auto& lf : graph->frame(m + 1).linear_factors) {
+      if (lf.camera_frame != m) continue;
+      lf.r0 += lf.J.leftCols<6>() * PoseBlockMinus(cam, lf.camera_lin.data());
+      lf.J.leftCols<6>().setZero();
+      lf.camera_frame = -1;
+    }
+  fm = FrameFactors{fm.odometry, {}, {}, {}, {}};
   sink->cameraFinal(m, BlockToPose(cam));
   graph->retireFramesBefore(m);
 }

@@ -10,13 +10,15 @@
 //  - a leaving frame's measurement of a landmark that is still observed becomes part of a Gaussian
 //    prior on that landmark (camera at its estimate): the landmark keeps everything it was ever seen
 //    from, at the cost of one 3x3 prior;
-//  - a per-frame object point leaving the object window is marginalised (its measurement with the
-//    camera at its estimate, the factor from its own predecessor with the motion at its estimate):
-//    the ternary factor to its successor becomes a binary factor on (successor, H) whose noise
-//    includes the point's marginal covariance, so an object point carries its whole history like a
-//    Kalman filter would;
+//  - a per-frame object point leaving the object window is marginalised exactly over its measurement
+//    and the ternary factor to its successor, with the factors that involve nothing else still in the
+//    window (its prior, the factor from its predecessor with that motion at its estimate, the linear
+//    factor its predecessor left with that camera held) folded in: what remains is a 6-row linear
+//    factor on (its camera, its successor, the motion into the successor's frame), so the camera keeps
+//    the object's constraint and the object point carries its whole history like a Kalman filter;
 //  - a leaving camera is held at its final estimate in the odometry factor to the next camera (the
-//    window's anchor), a leaving motion likewise in the smoothness factor to the next motion.
+//    window's anchor) and in the linear factors left by its object points, a leaving motion likewise in
+//    the smoothness factor to the next motion.
 // Final estimates are handed to the sink as they leave.
 
 #include "backend/backend_params.h"

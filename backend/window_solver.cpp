@@ -49,6 +49,15 @@ struct PointMotion {
   Vec3 anchor;
 };
 
+// A linear factor left by a marginalised object point (backend/factor_graph.h).
+struct Linear {
+  int camera;  // pose-block index; -1: held (camera_value) or folded (camera_value null)
+  const double* camera_value;
+  int point;
+  int motion;  // pose-block index
+  const LinearPointFactor* factor;
+};
+
 // Odometry, first-camera prior and smoothness: few, 6-dim, differentiated numerically on the manifold.
 struct PoseFactor {
   int a = -1, b = -1;  // pose-block indices; -1: the constant block below (or absent for a unary factor)
@@ -60,6 +69,7 @@ struct Group {
   std::vector<int> points;
   std::vector<int> measurements;
   std::vector<int> motions;
+  std::vector<int> linears;
   // Elimination results of the current linearisation: dp = -(y + Y dx_local).
   std::vector<int> poses;  // local pose index -> pose-block index
   MatX Y;
@@ -114,6 +124,12 @@ class WindowProblem {
                        motion_anchor_[h - num_cameras]};
         motions_.push_back(pm);
       }
+      for (const auto& lf : f.linear_factors) {
+        const bool has_camera = lf.camera_frame >= 0;
+        linears_.push_back({has_camera ? camera_index(lf.camera_frame) : -1,
+                            has_camera ? graph->camera(lf.camera_frame) : nullptr, point_index(lf.point_var),
+                            motion_index(lf.motion_var), &lf});
+      }
       for (const auto& s : f.smoothness) {
         const int b = motion_index(s.curr_motion_var);
         const bool prev_live = s.prev_motion_var >= 0;
@@ -128,7 +144,7 @@ class WindowProblem {
   }
 
   int numResidualBlocks() const {
-    int n = static_cast<int>(measurements_.size() + motions_.size() + pose_factors_.size());
+    int n = static_cast<int>(measurements_.size() + motions_.size() + linears_.size() + pose_factors_.size());
     for (const PointVariable* p : points_) n += p->hasPrior() ? 1 : 0;
     return n;
   }
@@ -148,6 +164,7 @@ class WindowProblem {
                                          nullptr, nullptr, nullptr);
       c += huber_.rho(r.squaredNorm());
     }
+    for (const auto& l : linears_) c += linearResidual(l).squaredNorm();
     for (const PointVariable* p : points_) {
       if (!p->hasPrior()) continue;
       const Vec3 x = p->position();
@@ -246,6 +263,16 @@ class WindowProblem {
 
  private:
   Vec3 point(int i) const { return points_[i]->position(); }
+
+  Vec6 linearResidual(const Linear& l) const {
+    const LinearPointFactor& f = *l.factor;
+    Eigen::Matrix<double, 15, 1> d = Eigen::Matrix<double, 15, 1>::Zero();
+    const double* cam = l.camera >= 0 ? poses_[l.camera] : l.camera_value;
+    if (cam) d.head<6>() = PoseBlockMinus(cam, f.camera_lin.data());
+    d.segment<3>(6) = point(l.point) - f.point_lin;
+    d.tail<6>() = PoseBlockMinus(poses_[l.motion], f.motion_lin.data());
+    return f.r0 + f.J * d;
+  }
   Vec3 prevPoint(const PointMotion& m) const { return m.prev >= 0 ? point(m.prev) : m.prev_mean; }
 
   // Point groups: connected components of the point-motion factors between two point variables.
@@ -270,10 +297,15 @@ class WindowProblem {
       for (size_t j = 0; j < g.points.size(); ++j) local_index_[g.points[j]] = static_cast<int>(j);
     for (size_t i = 0; i < measurements_.size(); ++i) groups_[group_of[measurements_[i].point]].measurements.push_back(i);
     for (size_t i = 0; i < motions_.size(); ++i) groups_[group_of[motions_[i].curr]].motions.push_back(i);
+    for (size_t i = 0; i < linears_.size(); ++i) groups_[group_of[linears_[i].point]].linears.push_back(i);
     for (Group& g : groups_) {
       for (int i : g.measurements)
         if (measurements_[i].pose >= 0) g.poses.push_back(measurements_[i].pose);
       for (int i : g.motions) g.poses.push_back(motions_[i].motion);
+      for (int i : g.linears) {
+        if (linears_[i].camera >= 0) g.poses.push_back(linears_[i].camera);
+        g.poses.push_back(linears_[i].motion);
+      }
       std::sort(g.poses.begin(), g.poses.end());
       g.poses.erase(std::unique(g.poses.begin(), g.poses.end()), g.poses.end());
     }
@@ -306,8 +338,19 @@ class WindowProblem {
     };
     MatPP Hpp = MatPP::Zero(np, np);
     VecP gp = VecP::Zero(np);
-    std::vector<MatP6>& W = scratch_W<kNp>();
-    W.assign(num_poses, MatP6::Zero(np, 6));
+    // The point-pose coupling is sparse: a pose touches one or two of the group's points (a camera its
+    // point, a motion the two ends of its factor), so W_a is kept as its nonzero 3x6 row blocks.
+    std::vector<WBlock>& W = scratch_blocks_;
+    W.clear();
+    auto add_w = [&](int pose, int row, const Mat36& block) {
+      const int a = local_pose(pose);
+      for (WBlock& w : W)
+        if (w.pose == a && w.row == row) {
+          w.B += block;
+          return;
+        }
+      W.push_back({a, row, block});
+    };
     auto add_pose = [&](int pose, const Mat36& Jpose, const Vec3& r) {
       S->block<6, 6>(6 * pose, 6 * pose) += Jpose.transpose() * Jpose;
       b->segment<6>(6 * pose) += Jpose.transpose() * r;
@@ -326,7 +369,7 @@ class WindowProblem {
       Hpp.template block<3, 3>(i, i) += Jl.transpose() * Jl;
       gp.template segment<3>(i) += Jl.transpose() * r;
       if (m.pose >= 0) {
-        W[local_pose(m.pose)].template block<3, 6>(i, 0) += Jl.transpose() * Jpose;
+        add_w(m.pose, i, Jl.transpose() * Jpose);
         add_pose(m.pose, Jpose, r);
       }
     }
@@ -338,19 +381,41 @@ class WindowProblem {
       const double w = huber_.sqrtWeight(r.squaredNorm());
       r *= w, Jprev *= w, Jcurr *= w, Jpose *= w;
       const int j = 3 * local_index_[m.curr];
-      MatP6& Wh = W[local_pose(m.motion)];
       Hpp.template block<3, 3>(j, j) += Jcurr.transpose() * Jcurr;
       gp.template segment<3>(j) += Jcurr.transpose() * r;
-      Wh.template block<3, 6>(j, 0) += Jcurr.transpose() * Jpose;
+      add_w(m.motion, j, Jcurr.transpose() * Jpose);
       if (m.prev >= 0) {
         const int i = 3 * local_index_[m.prev];
         Hpp.template block<3, 3>(i, i) += Jprev.transpose() * Jprev;
         Hpp.template block<3, 3>(i, j) += Jprev.transpose() * Jcurr;
         Hpp.template block<3, 3>(j, i) += Jcurr.transpose() * Jprev;
         gp.template segment<3>(i) += Jprev.transpose() * r;
-        Wh.template block<3, 6>(i, 0) += Jprev.transpose() * Jpose;
+        add_w(m.motion, i, Jprev.transpose() * Jpose);
       }
       add_pose(m.motion, Jpose, r);
+    }
+    for (int li : g.linears) {
+      // Plain squares (weighted when linearised); it couples its camera and motion directly.
+      const Linear& l = linears_[li];
+      const Vec6 r = linearResidual(l);
+      const Eigen::Matrix<double, 6, 15>& J = l.factor->J;
+      const int j = 3 * local_index_[l.point];
+      const Eigen::Matrix<double, 6, 3> Jp = J.middleCols<3>(6);
+      Hpp.template block<3, 3>(j, j) += Jp.transpose() * Jp;
+      gp.template segment<3>(j) += Jp.transpose() * r;
+      const int blocks[2] = {l.camera, l.motion};
+      for (int a = 0; a < 2; ++a) {
+        if (blocks[a] < 0) continue;
+        const Mat6 Ja = a == 0 ? Mat6(J.leftCols<6>()) : Mat6(J.rightCols<6>());
+        add_w(blocks[a], j, Jp.transpose() * Ja);
+        b->segment<6>(6 * blocks[a]) += Ja.transpose() * r;
+        diag->segment<6>(6 * blocks[a]) += Ja.colwise().squaredNorm().transpose();
+        for (int c = 0; c < 2; ++c) {
+          if (blocks[c] < 0) continue;
+          const Mat6 Jc = c == 0 ? Mat6(J.leftCols<6>()) : Mat6(J.rightCols<6>());
+          S->block<6, 6>(6 * blocks[a], 6 * blocks[c]) += Ja.transpose() * Jc;
+        }
+      }
     }
     for (size_t j = 0; j < g.points.size(); ++j) {
       const PointVariable* p = points_[g.points[j]];
@@ -365,30 +430,25 @@ class WindowProblem {
     const MatPP Hpp_inv = Eigen::LLT<MatPP>(Hpp).solve(MatPP::Identity(np, np));
     const VecP y = Hpp_inv * gp;
     g.y = y;
+    // Y_c = Hpp^-1 W_c, summed over W_c's row blocks; the Schur blocks W_a^T Y_c likewise.
     std::vector<MatP6>& Y = scratch_Y<kNp>();
-    Y.resize(num_poses);
+    Y.assign(num_poses, MatP6::Zero(np, 6));
+    for (const WBlock& w : W) Y[w.pose].noalias() += Hpp_inv.template middleCols<3>(w.row).lazyProduct(w.B);
     g.Y.resize(np, 6 * num_poses);
-    for (int a = 0; a < num_poses; ++a) {
-      Y[a].noalias() = Hpp_inv.lazyProduct(W[a]);
-      g.Y.middleCols<6>(6 * a) = Y[a];
-    }
-    for (int a = 0; a < num_poses; ++a) {
-      const int pa = g.poses[a];
-      b->segment<6>(6 * pa).noalias() -= W[a].transpose() * y;
-      for (int c = a; c < num_poses; ++c) {
-        const Mat6 block = W[a].transpose().lazyProduct(Y[c]);
+    for (int a = 0; a < num_poses; ++a) g.Y.middleCols<6>(6 * a) = Y[a];
+    for (const WBlock& w : W) {
+      const int pa = g.poses[w.pose];
+      b->segment<6>(6 * pa).noalias() -= w.B.transpose() * y.template segment<3>(w.row);
+      // S is symmetric: blocks at and right of the diagonal, mirrored.
+      for (int c = w.pose; c < num_poses; ++c) {
+        const Mat6 block = w.B.transpose().lazyProduct(Y[c].template middleRows<3>(w.row));
         S->block<6, 6>(6 * pa, 6 * g.poses[c]) -= block;
-        if (c != a) S->block<6, 6>(6 * g.poses[c], 6 * pa) -= block.transpose();
+        if (c != w.pose) S->block<6, 6>(6 * g.poses[c], 6 * pa) -= block.transpose();
       }
     }
   }
 
   // Reused between groups so that the per-pose blocks are not allocated for every group.
-  template <int kNp>
-  std::vector<Eigen::Matrix<double, kNp, 6>>& scratch_W() {
-    static thread_local std::vector<Eigen::Matrix<double, kNp, 6>> W;
-    return W;
-  }
   template <int kNp>
   std::vector<Eigen::Matrix<double, kNp, 6>>& scratch_Y() {
     static thread_local std::vector<Eigen::Matrix<double, kNp, 6>> Y;
@@ -440,9 +500,16 @@ class WindowProblem {
   std::vector<PointVariable*> points_;
   std::vector<Measurement> measurements_;
   std::vector<PointMotion> motions_;
+  std::vector<Linear> linears_;
   std::vector<PoseFactor> pose_factors_;
   std::vector<Group> groups_;
   std::vector<int> local_index_;
+  struct WBlock {
+    int pose;  // local
+    int row;   // first of the point's three rows
+    Mat36 B;
+  };
+  std::vector<WBlock> scratch_blocks_;
   std::vector<PoseBlock> saved_poses_;
   std::vector<std::array<double, 3>> saved_points_;
 };

@@ -37,6 +37,15 @@ inline Eigen::Matrix3d BlockRotationMatrix(const double* block) {
 }
 inline Vec3 BlockTranslation(const double* block) { return Vec3(block[4], block[5], block[6]); }
 
+// The tangent [dt; phi] from block x0 to block x, the inverse of (q, t) <- (q0 * Exp(phi), t0 + dt).
+inline Eigen::Matrix<double, 6, 1> PoseBlockMinus(const double* x, const double* x0) {
+  const Eigen::Map<const Eigen::Quaterniond> q(x), q0(x0);
+  Eigen::Matrix<double, 6, 1> d;
+  d.head<3>() = BlockTranslation(x) - BlockTranslation(x0);
+  d.tail<3>() = RotationLog(q0.conjugate() * q);
+  return d;
+}
+
 // Product of Eigen's quaternion manifold and R^3, matching the block layout above.
 inline ceres::Manifold* NewPoseManifold() {
   return new ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>();

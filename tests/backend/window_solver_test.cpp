@@ -94,7 +94,7 @@ TEST(Marginalisation, ALeavingMeasurementBecomesTheLandmarksPriorAndTheCameraIsF
   EXPECT_EQ(graph.first_stored_frame, 0);  // camera 0 stays as the next window's anchor
 }
 
-TEST(Marginalisation, ObjectPointsLeaveAndTheirSuccessorsFactorsCarryTheirCovariance) {
+TEST(Marginalisation, ObjectPointsLeaveAsLinearFactorsThatKeepTheirCamera) {
   BackendParams params;
   params.default_mode = MotionMode::kPerStep;
   FactorGraph graph = CityGraph(6, params);
@@ -103,12 +103,19 @@ TEST(Marginalisation, ObjectPointsLeaveAndTheirSuccessorsFactorsCarryTheirCovari
   ASSERT_GT(ternaries_before, 10);
   Recorder sink;
   for (int m = 0; m <= 2; ++m) MarginaliseObjectFrame(params, 10.0, m, &graph, &sink);
-  for (const auto& pm : graph.frame(3).point_motions) {
-    EXPECT_LT(pm.prev_point_var, 0);
-    // Noise of the binary factor: at least the rigidity sigma, plus the point's own covariance.
-    const Mat3 cov = (pm.sqrt_info.transpose() * pm.sqrt_info).inverse();
-    EXPECT_GT(cov.trace() / 3.0, params.noise.motion_sigma_m * params.noise.motion_sigma_m);
+  // Every ternary factor from a point of frame 2 became a linear factor on (camera 2, successor, motion).
+  for (const auto& pm : graph.frame(3).point_motions) EXPECT_TRUE(graph.points.count(pm.prev_point_var)) << pm.prev_point_var;
+  ASSERT_EQ(static_cast<int>(graph.frame(3).linear_factors.size()), ternaries_before);
+  for (const auto& lf : graph.frame(3).linear_factors) {
+    EXPECT_EQ(lf.camera_frame, 2);
+    EXPECT_GT(lf.J.leftCols<6>().norm(), 0.0);   // the camera keeps the object's constraint
+    EXPECT_GT(lf.J.middleCols<3>(6).norm(), 0.0);
+    EXPECT_GT(lf.J.rightCols<6>().norm(), 0.0);
+    EXPECT_TRUE(lf.r0.allFinite());
+    EXPECT_TRUE(graph.points.count(lf.point_var));
+    EXPECT_TRUE(graph.motions.count(lf.motion_var));
   }
+  EXPECT_TRUE(graph.frame(2).linear_factors.empty());
   for (const auto& [id, var] : graph.points) EXPECT_FALSE(var.object_id >= 0 && var.first_frame == 2 && var.last_frame == 2);
   // Transitions into frames 1 and 2 are final; those into 3 kept their centroid.
   ASSERT_FALSE(sink.motions.empty());
@@ -126,6 +133,17 @@ TEST(Marginalisation, ObjectPointsLeaveAndTheirSuccessorsFactorsCarryTheirCovari
   window.last_frame = 5;
   const WindowSolveSummary summary = SolveWindow(params, window, &graph);
   EXPECT_LE(summary.final_cost, summary.initial_cost);
+  // When camera 2 leaves the camera window it is held in those factors at its final value.
+  MarginaliseCameraFrame(params, 0, &graph, &sink);
+  MarginaliseCameraFrame(params, 1, &graph, &sink);
+  MarginaliseCameraFrame(params, 2, &graph, &sink);
+  for (const auto& lf : graph.frame(3).linear_factors) {
+    EXPECT_EQ(lf.camera_frame, -1);
+    EXPECT_EQ(lf.J.leftCols<6>().norm(), 0.0);
+  }
+  window.first_frame = 3;
+  const WindowSolveSummary after = SolveWindow(params, window, &graph);
+  EXPECT_LE(after.final_cost, after.initial_cost);
 }
 
 }  // namespace
