@@ -50,6 +50,7 @@ class Estimator {
   const std::vector<int>& solveResidualBlocks() const { return solve_residual_blocks_; }
   const std::vector<int>& solveIterations() const { return solve_iterations_; }
   const FactorGraph& graph() const { return graph_; }
+  const GraphBuilder& builder() const { return builder_; }
 
  private:
   void flush();  // hands everything still in the graph to the sink

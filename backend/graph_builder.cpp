@@ -71,6 +71,22 @@ void GraphBuilder::addFrame(const FrameMeasurement& frame, const SE3* T_world_ca
   }
   if (options_.use_objects)
     for (const auto& obs : frame.objects) addObject(obs, k, T_world_camera);
+  forgetRetired(k);
+}
+
+void GraphBuilder::forgetRetired(int frame) {
+  // A sweep every 32 frames: the maps hold what the graph still refers to plus 32 frames of new tracks.
+  if (frame % 32 != 0) return;
+  for (auto it = static_track_to_var_.begin(); it != static_track_to_var_.end();)
+    it = graph_->points.count(it->second) ? std::next(it) : static_track_to_var_.erase(it);
+  // An object not seen at the newest frame whose motions are all retired starts afresh if it returns,
+  // which is what its stale state would lead to anyway.
+  for (auto it = objects_.begin(); it != objects_.end();) {
+    const ObjectTrackState& s = it->second;
+    const bool stale = s.last_frame < frame && !graph_->motions.count(s.constant_motion_var) &&
+                       !graph_->motions.count(s.last_motion_var);
+    it = stale ? objects_.erase(it) : std::next(it);
+  }
 }
 
 void GraphBuilder::addObject(const ObjectObservation& obs, int frame, const SE3& T_world_camera) {

@@ -26,6 +26,10 @@ class GraphBuilder {
   // Throws std::invalid_argument on a frame index out of sequence or non-finite measurements.
   void addFrame(const FrameMeasurement& frame, const SE3* T_world_camera_init = nullptr);
 
+  // Track and object identities the builder remembers; bounded by what the graph still holds (the
+  // smoother retires variables, and the builder forgets what refers only to retired ones).
+  size_t rememberedIdentities() const { return static_track_to_var_.size() + objects_.size(); }
+
  private:
   struct ObjectTrackState {
     int last_frame = -1;
@@ -34,6 +38,7 @@ class GraphBuilder {
     int constant_motion_var = -1;                    // constant mode: the object's single H
   };
 
+  void forgetRetired(int frame);
   Vec3 pointSigma(const Vec3& z_camera) const;
   void addMeasurement(int frame, int point_var, const Vec3& z_camera);
   int newPointVariable(const Vec3& p_world, int64_t track_id, int object_id, int frame, int prev_var);
