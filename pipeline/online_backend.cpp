@@ -15,12 +15,18 @@ EstimatorOptions OnlineBackend::SinkOptions(EstimateSink* sink) {
   return options;
 }
 
-OnlineBackend::OnlineBackend(const RunConfig& config, double frame_rate_hz, StreamingFileSink* stream)
+// Without a stream the estimator collects by itself (null sink).
+EstimateSink* OnlineBackend::sinkFor(StreamingFileSink* stream, bool collect) {
+  if (!stream) return collect ? nullptr : &discard_;
+  return collect ? static_cast<EstimateSink*>(&tee_) : stream;
+}
+
+OnlineBackend::OnlineBackend(const RunConfig& config, double frame_rate_hz, StreamingFileSink* stream, bool collect)
     : stream_(stream),
+      collect_(collect),
       tee_(&collected_, stream),
       classifier_(config.classifier, frame_rate_hz),
-      // Without a stream the estimator collects by itself.
-      estimator_(config.backend, frame_rate_hz, SinkOptions(stream ? static_cast<EstimateSink*>(&tee_) : nullptr)) {}
+      estimator_(config.backend, frame_rate_hz, SinkOptions(sinkFor(stream, collect))) {}
 
 FrameEstimate OnlineBackend::add(FrameMeasurement* frame) {
   const auto start = std::chrono::steady_clock::now();
@@ -31,7 +37,7 @@ FrameEstimate OnlineBackend::add(FrameMeasurement* frame) {
   ++frames_added_;
   FrameEstimate latest = estimator_.latest();
   latest.t_ns = frame->t_ns;
-  result_.online.push_back(latest);
+  if (collect_) result_.online.push_back(latest);
   if (stream_) stream_->onlinePose(latest.t_ns, latest.T_world_camera);
   result_.wall_time_s += SecondsSince(start);
   return latest;

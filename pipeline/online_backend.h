@@ -17,8 +17,11 @@ namespace dslam {
 class OnlineBackend {
  public:
   // `stream`, when given, receives the final estimates as they leave the window and each frame's online
-  // pose (the result files of a run that is still going); the estimates are collected all the same.
-  OnlineBackend(const RunConfig& config, double frame_rate_hz, StreamingFileSink* stream = nullptr);
+  // pose (the result files of a run that is still going). With `collect`, the estimates are also kept
+  // for finish() (runs evaluated at the end); without it (a service running for hours) nothing grows
+  // with the number of frames and finish() returns only the solve statistics.
+  OnlineBackend(const RunConfig& config, double frame_rate_hz, StreamingFileSink* stream = nullptr,
+                bool collect = true);
   OnlineBackend(const OnlineBackend&) = delete;
   OnlineBackend& operator=(const OnlineBackend&) = delete;
 
@@ -33,8 +36,16 @@ class OnlineBackend {
 
  private:
   static EstimatorOptions SinkOptions(EstimateSink* sink);
+  EstimateSink* sinkFor(StreamingFileSink* stream, bool collect);
+  struct DiscardingSink : EstimateSink {
+    void cameraFinal(int, const SE3&) override {}
+    void motionFinal(const ObjectMotionEstimate&) override {}
+    void pointFinal(const PointEstimate&) override {}
+  };
+  DiscardingSink discard_;
 
   StreamingFileSink* stream_;
+  bool collect_;
   CollectingSink collected_;
   TeeSink tee_;
   DynamicObjectClassifier classifier_;

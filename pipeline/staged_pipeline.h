@@ -40,9 +40,9 @@ class StagedPipeline {
  public:
   // `camera`: its size is taken from the first frame when width/height are 0. `queue_capacity`: frames
   // waiting before each stage.
-  // `stream`: see OnlineBackend (written from the back-end thread).
+  // `stream` and `collect`: see OnlineBackend (the stream is written from the back-end thread).
   StagedPipeline(const RunConfig& config, const PinholeCamera& camera, double frame_rate_hz, size_t queue_capacity,
-                 StagedPipelineCallbacks callbacks, StreamingFileSink* stream = nullptr);
+                 StagedPipelineCallbacks callbacks, StreamingFileSink* stream = nullptr, bool collect = true);
   ~StagedPipeline();  // stops both stages (what is still queued is not processed)
   StagedPipeline(const StagedPipeline&) = delete;
   StagedPipeline& operator=(const StagedPipeline&) = delete;

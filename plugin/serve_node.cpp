@@ -4,6 +4,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <filesystem>
+#include <fstream>
 #include <mutex>
 #include <thread>
 
@@ -84,7 +85,8 @@ class Vehicle {
       wake_.notify_one();  // the feeder reports the rejection
     };
     pipeline_ = std::make_unique<StagedPipeline>(config, options.camera, options.frame_rate_hz,
-                                                 static_cast<size_t>(options.assembler.max_pending), callbacks, &stream_);
+                                                 static_cast<size_t>(options.assembler.max_pending), callbacks, &stream_,
+                                                 /*collect=*/false);
     // Readers first: when one cannot be created (a missing profile, security denying the topic) the
     // constructor throws before any thread of ours runs. Samples that arrive meanwhile wait in the inbox.
     std::vector<dds::DataReader*> readers;
@@ -134,11 +136,14 @@ class Vehicle {
     return s;
   }
 
+  // The estimates are on disk already (streamed as they became final; the last window was flushed by
+  // stop()): this adds the KITTI-format trajectory and metrics.json with the session's counters. Nothing
+  // of the session is kept in memory for it, so a service can run for hours.
   void writeResults(std::ostream& log) {
     const std::string dir = ResultDir(options_, name_);
     stop();
     if (!pipeline_failure_.empty()) log << "vehicle '" << name_ << "': the pipeline failed: " << pipeline_failure_ << std::endl;
-    const int frames = static_cast<int>(sequence_.frames.size());
+    const int frames = static_cast<int>(frames_processed_);
     if (frames == 0 || !result_) {
       log << "vehicle '" << name_ << "': no frame processed, nothing written" << std::endl;
       return;
@@ -153,9 +158,23 @@ class Vehicle {
     info["dropped_incomplete"] = s.counters.dropped_incomplete;
     info["dropped_queue_full"] = s.counters.dropped_queue_full;
     info["rejected_invalid"] = s.counters.rejected_invalid;
-    MethodOutcomes outcomes;
-    outcomes[Method::kOurs].result = *result_;
-    WriteRunOutputs(dir, sequence_, outcomes, info);
+    try {
+      WriteKittiTrajectory(dir + "/camera_ours.kitti", ReadTumTrajectory(dir + "/camera_ours.tum"));
+      nlohmann::json metrics;
+      // No ground truth on a vehicle: no error metrics, only the back-end's time.
+      metrics["methods"]["ours"] = {{"wall_time_s", result_->wall_time_s}};
+      metrics["run"] = info;
+      const std::string path = dir + "/metrics.json", partial = path + ".partial";
+      {
+        std::ofstream out(partial);
+        out << metrics.dump(2) << '\n';
+        if (!out) throw std::runtime_error("cannot write " + partial);
+      }
+      std::filesystem::rename(partial, path);
+    } catch (const std::exception& e) {
+      log << "vehicle '" << name_ << "': " << e.what() << std::endl;
+      return;
+    }
     log << "vehicle '" << name_ << "': " << frames << " frames, results written to " << dir << std::endl;
   }
 
@@ -273,8 +292,8 @@ class Vehicle {
   }
 
   // The back-end thread, after each frame.
-  void publish(const FrameEstimate& estimate, const FrameMeasurement& m) {
-    sequence_.frames.push_back(m);  // only this thread touches it until writeResults, after finish()
+  void publish(const FrameEstimate& estimate, const FrameMeasurement&) {
+    ++frames_processed_;  // only this thread writes it until writeResults, after finish()
     nav_msgs::msg::Odometry odometry = EncodeOdometry(estimate.T_world_camera, estimate.t_ns, "world", "camera");
     odometry_writer_->write(&odometry);
     dslam_msgs::msg::ObjectMotionArray objects = ToMessage(estimate, options_.frame_rate_hz);
@@ -328,7 +347,7 @@ class Vehicle {
   std::unique_ptr<StagedPipeline> pipeline_;
   std::optional<MethodResult> result_;  // once stopped
   std::string pipeline_failure_;
-  Sequence sequence_;
+  uint64_t frames_processed_ = 0;
   std::mutex status_writer_mutex_;
   ImageListener colour_listener_, depth_listener_, mask_listener_;
   OdometryListener odometry_listener_;

@@ -7,10 +7,13 @@
 #include <mutex>
 
 #include "app/run_command.h"
+#include "output/result_reader.h"
+#include "output/trajectory_io.h"
 #include "pipeline/image_run.h"
 #include "pipeline/run_sequence.h"
 #include "plugin/vehicle_pipeline.h"
 #include "support/rendered_city.h"
+#include "support/temp_paths.h"
 
 namespace dslam {
 namespace {
@@ -118,6 +121,33 @@ TEST(StagedPipeline, TheImageRunsOursInParallelAndGetsWhatTheSequentialMethodGet
   ASSERT_EQ(ours.estimate.object_motions.size(), sequential.estimate.object_motions.size());
   for (size_t i = 0; i < ours.estimate.object_motions.size(); ++i)
     EXPECT_EQ(ours.estimate.object_motions[i].speed_mps, sequential.estimate.object_motions[i].speed_mps);
+}
+
+TEST(StagedPipeline, AsAServiceItKeepsNothingPerFrameAndItsFilesHoldEveryEstimate) {
+  const std::string dir = test::RenderedCity("staged_city", 12);
+  const RunConfig config = RunDefaults();
+  const ImageDataset data(dir, config.dataset);
+  VehiclePipeline sequential(config, data.camera(), data.frameRateHz());
+  for (int k = 0; k < data.size(); ++k) sequential.process(data.read(k));
+  const MethodResult reference = sequential.finish();
+
+  const std::string out = test::TempPath("staged_service_out");
+  StreamingFileSink stream(out);
+  StagedPipeline staged(config, data.camera(), data.frameRateHz(), 2, {}, &stream, /*collect=*/false);
+  for (int k = 0; k < data.size(); ++k) ASSERT_TRUE(staged.push(data.read(k)));
+  const MethodResult result = staged.finish();
+  EXPECT_TRUE(result.online.empty());
+  EXPECT_TRUE(result.estimate.T_world_camera.empty());
+  EXPECT_TRUE(result.estimate.points.empty());
+  EXPECT_EQ(result.solve_times_ms.size(), 12u);
+
+  const std::vector<SE3> cameras = ReadTumTrajectory(out + "/camera_ours.tum");
+  ASSERT_EQ(cameras.size(), reference.estimate.T_world_camera.size());
+  for (size_t k = 0; k < cameras.size(); ++k)
+    EXPECT_LT((cameras[k].translation() - reference.estimate.T_world_camera[k].translation()).norm(), 2e-9) << k;
+  EXPECT_EQ(ReadTumTrajectory(out + "/camera_ours_online.tum").size(), 12u);
+  const CsvTable speeds = ReadCsv(out + "/object_speeds.csv");
+  EXPECT_EQ(speeds.rows.size(), reference.estimate.object_motions.size());
 }
 
 }  // namespace
