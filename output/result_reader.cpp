@@ -50,6 +50,19 @@ CsvTable ReadCsv(const std::string& path) {
   return table;
 }
 
+CsvTable ReadCsv(const std::string& path, const std::vector<std::string>& columns) {
+  CsvTable table = ReadCsv(path);
+  bool match = table.header.size() >= columns.size();
+  for (size_t i = 0; match && i < columns.size(); ++i) match = table.header[i] == columns[i];
+  if (!match) {
+    std::string expected, found;
+    for (const auto& c : columns) expected += (expected.empty() ? "" : ",") + c;
+    for (const auto& c : table.header) found += (found.empty() ? "" : ",") + c;
+    throw std::runtime_error(path + ": expected the columns " + expected + ", found " + found);
+  }
+  return table;
+}
+
 std::string RunResults::title() const {
   const auto& run = metrics.contains("run") ? metrics["run"] : nlohmann::json::object();
   std::string t = run.value("command", std::string("run"));
@@ -81,7 +94,8 @@ RunResults ReadRunResults(const std::string& dir) {
                              std::to_string(r.camera_gt.size()) + " in camera_gt.tum");
 
   const std::string speeds_path = dir + "/object_speeds.csv";
-  const CsvTable speeds = ReadCsv(speeds_path);
+  const CsvTable speeds =
+      ReadCsv(speeds_path, {"frame", "object_id", "is_dynamic", "est_speed_mps", "gt_speed_mps"});
   for (size_t i = 0; i < speeds.rows.size(); ++i) {
     const auto& row = speeds.rows[i];
     const int line = speeds.line_numbers[i];
@@ -97,7 +111,9 @@ RunResults ReadRunResults(const std::string& dir) {
   }
 
   const std::string motions_path = dir + "/object_motions.csv";
-  const CsvTable motions = ReadCsv(motions_path);
+  const CsvTable motions =
+      ReadCsv(motions_path, {"frame", "object_id", "is_dynamic", "est_tx", "est_ty", "est_tz", "est_qx", "est_qy",
+                             "est_qz", "est_qw", "gt_tx", "gt_ty", "gt_tz", "gt_qx", "gt_qy", "gt_qz", "gt_qw"});
   for (size_t i = 0; i < motions.rows.size(); ++i) {
     const auto& row = motions.rows[i];
     const int line = motions.line_numbers[i];
@@ -112,7 +128,8 @@ RunResults ReadRunResults(const std::string& dir) {
   }
 
   const std::string centroids_path = dir + "/object_centroids_gt.csv";
-  const CsvTable centroids = ReadCsv(centroids_path);
+  const CsvTable centroids =
+      ReadCsv(centroids_path, {"frame", "object_id", "category", "observed", "x", "y", "z"});
   for (size_t i = 0; i < centroids.rows.size(); ++i) {
     const auto& row = centroids.rows[i];
     const int line = centroids.line_numbers[i];
@@ -127,7 +144,7 @@ RunResults ReadRunResults(const std::string& dir) {
   }
 
   const std::string map_path = dir + "/map_points.csv";
-  const CsvTable map = ReadCsv(map_path);
+  const CsvTable map = ReadCsv(map_path, {"frame", "object_id", "x", "y", "z"});
   for (size_t i = 0; i < map.rows.size(); ++i) {
     const auto& row = map.rows[i];
     const int line = map.line_numbers[i];

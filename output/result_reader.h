@@ -58,5 +58,8 @@ struct CsvTable {
   int column(const std::string& name, const std::string& path) const;  // throws if absent
 };
 CsvTable ReadCsv(const std::string& path);
+// The same, and its header must begin with `columns` (in that order); otherwise an error naming the file,
+// the columns expected and those found.
+CsvTable ReadCsv(const std::string& path, const std::vector<std::string>& columns);
 
 }  // namespace dslam
