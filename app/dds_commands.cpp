@@ -22,13 +22,18 @@ void InstallStopHandlers() {
 
 }  // namespace
 
+RunConfig ServeRunConfig(const ServeCommandOptions& options) {
+  RunConfig base;  // serve's defaults are dslam run's, under the configuration file
+  base.backend.default_mode = MotionMode::kSmoothed;
+  base.backend.schedule = {ScheduleKind::kSlidingWindow, 10};
+  return options.config_path ? LoadRunConfig(*options.config_path, base) : base;
+}
+
 int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::ostream& err) {
   ServeOptions serve;
   RunConfig config;
   try {
-    if (options.config_path) config = LoadRunConfig(*options.config_path);
-    config.backend.default_mode = MotionMode::kSmoothed;  // as dslam run
-    config.backend.schedule = {ScheduleKind::kSlidingWindow, 10};
+    config = ServeRunConfig(options);
     if (options.calib_path.empty()) throw std::invalid_argument("--calib FILE is required (KITTI calib.txt format)");
     const KittiCalibration calib = ReadKittiCalibration(options.calib_path);
     const auto& P = calib.P[2](0, 0) > 0.0 ? calib.P[2] : calib.P[0];

@@ -217,6 +217,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
+  // A --sigma left at its default must not override a configuration file's point_sigma_m.
+  sim.sigma_given = sim_cmd->count("--sigma") > 0;
+  replay.sigma_given = replay_cmd->count("--sigma") > 0;
+  run.sigma_given = run_cmd->count("--sigma") > 0;
   if (serve_cmd->parsed()) return dslam::RunServeCommand(serve, std::cout, std::cerr);
   if (publish_cmd->parsed()) return dslam::RunPublishCommand(publish, std::cout, std::cerr);
   if (run_cmd->parsed()) return dslam::RunRunCommand(run, std::cout, std::cerr);

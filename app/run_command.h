@@ -11,7 +11,7 @@ namespace dslam {
 struct RunCommandOptions : CommonRunOptions {
   RunCommandOptions() {
     out_dir = "results/run";
-    schedule = "window:10";  // image runs carry hundreds of points a frame: the sliding window keeps them fast
+    default_schedule = "window:10";  // image runs carry hundreds of points a frame: the window keeps them fast
   }
   std::string dataset_dir;
   std::string sequence;                 // KITTI tracking layout: which sequence

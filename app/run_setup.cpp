@@ -8,11 +8,15 @@
 namespace dslam {
 
 RunConfig BuildRunConfig(const CommonRunOptions& options, const std::string& default_mode) {
-  RunConfig config = options.config_path ? LoadRunConfig(*options.config_path) : RunConfig{};
-  config.backend.default_mode = ParseMotionMode(options.mode.value_or(default_mode));
-  if (options.schedule) config.backend.schedule = ParseSchedule(*options.schedule);
+  RunConfig base;
+  base.backend.default_mode = ParseMotionMode(default_mode);
+  if (options.default_schedule) base.backend.schedule = ParseSchedule(*options.default_schedule);
   if (!(options.sigma_m > 0.0)) throw std::invalid_argument("--sigma must be positive");
-  config.backend.noise.point_sigma_m = options.sigma_m;
+  base.backend.noise.point_sigma_m = options.sigma_m;
+  RunConfig config = options.config_path ? LoadRunConfig(*options.config_path, base) : base;
+  if (options.mode) config.backend.default_mode = ParseMotionMode(*options.mode);
+  if (options.schedule) config.backend.schedule = ParseSchedule(*options.schedule);
+  if (options.sigma_given) config.backend.noise.point_sigma_m = options.sigma_m;
   config.validate();
   return config;
 }

@@ -17,7 +17,9 @@ struct CommonRunOptions {
   std::optional<std::string> config_path;
   std::optional<std::string> mode;      // overrides the configuration's motion model
   std::optional<std::string> schedule;  // overrides the configuration's schedule
+  std::optional<std::string> default_schedule;  // the command's own default, under the configuration file
   double sigma_m = 0.02;                // point noise: simulated and assumed by the back-end
+  bool sigma_given = true;              // --sigma was typed (else the file's point_sigma_m wins over it)
   uint64_t seed = 1;
   std::string out_dir;
   bool quiet = false;
@@ -25,7 +27,9 @@ struct CommonRunOptions {
   double figure_scale = 1.0;  // FigureOptions::scale of those figures
 };
 
-// Configuration file (or defaults), then `default_mode` unless --mode, then --schedule and --sigma.
+// Settings in this order, each over the previous: built-in defaults; the command's defaults
+// (`default_mode`, default_schedule, sigma_m); the configuration file; the flags the user typed (--mode,
+// --schedule, --sigma when sigma_given).
 // Throws std::invalid_argument with a message naming the bad option.
 RunConfig BuildRunConfig(const CommonRunOptions& options, const std::string& default_mode);
 

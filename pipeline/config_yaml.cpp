@@ -6,6 +6,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -137,24 +138,28 @@ const Schema& GetSchema() {
 }
 }  // namespace
 
-RunConfig ParseRunConfig(const std::string& yaml_text, const std::string& source) {
+RunConfig ParseRunConfig(const std::string& yaml_text, const std::string& source, const RunConfig& base) {
   YAML::Node root;
   try {
     root = YAML::Load(yaml_text);
   } catch (const YAML::Exception& e) {
     throw std::invalid_argument(source + ": not valid YAML: " + e.what());
   }
-  RunConfig config;
+  RunConfig config = base;
   if (root.IsNull()) return config;
   if (!root.IsMap()) throw std::invalid_argument(source + ": the top level must be a mapping of sections");
   const Schema& schema = GetSchema();
+  std::set<std::string> seen;  // YAML readers disagree on repeated keys (first or last wins): refuse them
   for (const auto& section : root) {
     const std::string name = section.first.as<std::string>();
+    if (!seen.insert(name).second) throw std::invalid_argument(source + ": section '" + name + "' appears twice");
     auto it = std::find_if(schema.begin(), schema.end(), [&](const auto& s) { return s.first == name; });
     if (it == schema.end()) throw std::invalid_argument(source + ": unknown section '" + name + "'");
     if (!section.second.IsMap()) throw std::invalid_argument(source + ": section '" + name + "' must be a mapping");
     for (const auto& entry : section.second) {
       const std::string key = entry.first.as<std::string>();
+      if (!seen.insert(name + "." + key).second)
+        throw std::invalid_argument(source + ": '" + name + "." + key + "' appears twice");
       auto field = std::find_if(it->second.begin(), it->second.end(), [&](const auto& f) { return f.first == key; });
       if (field == it->second.end()) throw std::invalid_argument(source + ": unknown key '" + name + "." + key + "'");
       try {
@@ -174,12 +179,12 @@ RunConfig ParseRunConfig(const std::string& yaml_text, const std::string& source
   return config;
 }
 
-RunConfig LoadRunConfig(const std::string& path) {
+RunConfig LoadRunConfig(const std::string& path, const RunConfig& base) {
   std::ifstream in(path);
   if (!in) throw std::invalid_argument("cannot open configuration file " + path);
   std::stringstream text;
   text << in.rdbuf();
-  return ParseRunConfig(text.str(), path);
+  return ParseRunConfig(text.str(), path, base);
 }
 
 std::string RunConfigToYaml(const RunConfig& config) {

@@ -25,7 +25,7 @@ const std::string kKitti = std::string(DSLAM_SHARED_DATA_DIR) + "/kitti_tracking
 RunConfig ImageRunConfig() {
   RunConfig config;
   config.backend.default_mode = ParseMotionMode(kRunDefaultMode);
-  config.backend.schedule = ParseSchedule(RunCommandOptions().schedule.value());
+  config.backend.schedule = ParseSchedule(RunCommandOptions().default_schedule.value());
   return config;
 }
 

@@ -21,7 +21,7 @@ namespace {
 RunConfig RunDefaults() {
   RunConfig config;
   config.backend.default_mode = ParseMotionMode(kRunDefaultMode);
-  config.backend.schedule = ParseSchedule(RunCommandOptions().schedule.value());
+  config.backend.schedule = ParseSchedule(RunCommandOptions().default_schedule.value());
   return config;
 }
 

@@ -18,7 +18,7 @@ TEST(VehiclePipeline, MatchesTheOnlineEstimatesOfDslamRun) {
   const std::string dir = test::RenderedCity("pipeline_city", 15);
   RunConfig config;
   config.backend.default_mode = ParseMotionMode(kRunDefaultMode);
-  config.backend.schedule = ParseSchedule(RunCommandOptions().schedule.value());
+  config.backend.schedule = ParseSchedule(RunCommandOptions().default_schedule.value());
   const ImageDataset data(dir, config.dataset);
   RunSequenceOptions run;
   run.methods = {Method::kOurs};
