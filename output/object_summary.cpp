@@ -1,5 +1,7 @@
 #include "output/object_summary.h"
 
+#include "output/whole_file.h"
+
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
@@ -43,15 +45,14 @@ std::vector<ObjectSummary> SummariseObjects(const Sequence& seq, const Estimate&
 }
 
 void WriteObjectsCsv(const std::string& path, const std::vector<ObjectSummary>& objects) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write " + path);
+  WholeFile out(path);
   out << "object_id,category,gt_frame_pairs,frames_estimated,omte_pct,omre_deg_per_m,omse_pct,"
          "mean_gt_speed_kmh,mean_est_speed_kmh\n";
   for (const auto& o : objects)
     out << o.object_id << ',' << o.category << ',' << o.gt_pairs << ',' << o.frames_estimated << ','
         << Num(o.metrics.omte_pct, 6) << ',' << Num(o.metrics.omre_deg_per_m, 6) << ',' << Num(o.metrics.omse_pct, 6)
         << ',' << Num(o.mean_gt_speed_kmh, 4) << ',' << Num(o.mean_est_speed_kmh, 4) << '\n';
-  if (!out) throw std::runtime_error("error while writing " + path);
+  out.commit();
 }
 
 std::string FormatObjectTable(const std::vector<ObjectSummary>& objects, const std::string& title) {

@@ -12,14 +12,14 @@
 #include "output/object_summary.h"
 #include "output/text_format.h"
 #include "output/trajectory_io.h"
+#include "output/whole_file.h"
 
 namespace dslam {
 namespace {
 nlohmann::json Opt(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
 
-std::ofstream OpenCsv(const std::string& path, const std::string& header) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write " + path);
+WholeFile OpenCsv(const std::string& path, const std::string& header) {
+  WholeFile out(path);
   out << std::setprecision(9) << header << '\n';
   return out;
 }
@@ -38,10 +38,10 @@ void PutPose(std::ostream& out, const SE3* H) {
 void WriteObjectTables(const std::string& dir, const std::string& suffix, const Sequence& seq, const Estimate& est) {
   const auto samples = BuildObjectSamples(seq, est);
   std::set<std::pair<int, int>> covered;
-  std::ofstream motions = OpenCsv(dir + "/object_motions" + suffix + ".csv",
+  WholeFile motions = OpenCsv(dir + "/object_motions" + suffix + ".csv",
                                   "frame,object_id,is_dynamic,est_tx,est_ty,est_tz,est_qx,est_qy,est_qz,est_qw,"
                                   "gt_tx,gt_ty,gt_tz,gt_qx,gt_qy,gt_qz,gt_qw");
-  std::ofstream speeds = OpenCsv(dir + "/object_speeds" + suffix + ".csv",
+  WholeFile speeds = OpenCsv(dir + "/object_speeds" + suffix + ".csv",
                                  "frame,object_id,is_dynamic,est_speed_mps,gt_speed_mps");
   for (const auto& s : samples) {
     covered.insert({s.object_id, s.frame});
@@ -61,21 +61,22 @@ void WriteObjectTables(const std::string& dir, const std::string& suffix, const 
     motions << '\n';
     speeds << m.frame << ',' << m.object_id << ',' << m.is_dynamic << ',' << m.speed_mps << ",\n";
   }
-  if (!motions || !speeds) throw std::runtime_error("error while writing the object tables in " + dir);
+  motions.commit();
+  speeds.commit();
 }
 
 void WriteGroundTruthCentroids(const std::string& path, const Sequence& seq) {
-  std::ofstream out = OpenCsv(path, "frame,object_id,category,observed,x,y,z");
+  WholeFile out = OpenCsv(path, "frame,object_id,category,observed,x,y,z");
   for (const auto& [id, obj] : seq.gt.objects)
     for (const auto& [k, c] : obj.centroid_world)
       out << k << ',' << id << ',' << obj.category << ',' << obj.observed_frames.count(k) << ',' << c.x() << ','
           << c.y() << ',' << c.z() << '\n';
-  if (!out) throw std::runtime_error("error while writing " + path);
+  out.commit();
 }
 
 void WriteMapPoints(const std::string& path, const Estimate& est) {
   // Static structure once per landmark (its final estimate); dynamic points once per observation.
-  std::ofstream out = OpenCsv(path, "frame,object_id,x,y,z");
+  WholeFile out = OpenCsv(path, "frame,object_id,x,y,z");
   // A landmark's observations arrive oldest first (a streaming smoother emits each as its frame leaves the
   // window): its last one carries the final estimate.
   std::map<int64_t, size_t> last_static;
@@ -87,7 +88,7 @@ void WriteMapPoints(const std::string& path, const Estimate& est) {
     out << (p.object_id < 0 ? -1 : p.frame) << ',' << p.object_id << ',' << p.p_world.x() << ',' << p.p_world.y() << ','
         << p.p_world.z() << '\n';
   }
-  if (!out) throw std::runtime_error("error while writing " + path);
+  out.commit();
 }
 
 }  // namespace
@@ -130,9 +131,9 @@ void WriteRunOutputs(const std::string& dir, const Sequence& seq, const MethodOu
     metrics["methods"][ToString(method)] = MethodMetricsJson(outcome.metrics, outcome.result.wall_time_s);
   metrics["run"] = run_info;
   {
-    std::ofstream out(dir + "/metrics.json");
-    if (!out) throw std::runtime_error("cannot write " + dir + "/metrics.json");
+    WholeFile out(dir + "/metrics.json");
     out << metrics.dump(2) << '\n';
+    out.commit();
   }
 
   WriteGroundTruthCentroids(dir + "/object_centroids_gt.csv", seq);

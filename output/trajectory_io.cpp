@@ -1,5 +1,7 @@
 #include "output/trajectory_io.h"
 
+#include "output/whole_file.h"
+
 #include <fstream>
 #include <iomanip>
 #include <sstream>
@@ -7,9 +9,8 @@
 
 namespace dslam {
 namespace {
-std::ofstream OpenForWriting(const std::string& path) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write " + path);
+WholeFile OpenForWriting(const std::string& path) {
+  WholeFile out(path);
   out << std::setprecision(9) << std::fixed;
   return out;
 }
@@ -17,24 +18,24 @@ std::ofstream OpenForWriting(const std::string& path) {
 
 void WriteTumTrajectory(const std::string& path, const std::vector<int64_t>& t_ns, const std::vector<SE3>& poses) {
   if (t_ns.size() != poses.size()) throw std::invalid_argument(path + ": timestamps and poses differ in number");
-  std::ofstream out = OpenForWriting(path);
+  WholeFile out = OpenForWriting(path);
   for (size_t i = 0; i < poses.size(); ++i) {
     const auto& q = poses[i].rotation();
     const auto& t = poses[i].translation();
     out << static_cast<double>(t_ns[i]) * 1e-9 << ' ' << t.x() << ' ' << t.y() << ' ' << t.z() << ' ' << q.x() << ' '
         << q.y() << ' ' << q.z() << ' ' << q.w() << '\n';
   }
-  if (!out) throw std::runtime_error("error while writing " + path);
+  out.commit();
 }
 
 void WriteKittiTrajectory(const std::string& path, const std::vector<SE3>& poses) {
-  std::ofstream out = OpenForWriting(path);
+  WholeFile out = OpenForWriting(path);
   for (const auto& pose : poses) {
     const Mat4 T = pose.matrix();
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 4; ++c) out << T(r, c) << ((r == 2 && c == 3) ? '\n' : ' ');
   }
-  if (!out) throw std::runtime_error("error while writing " + path);
+  out.commit();
 }
 
 std::vector<SE3> ReadTumTrajectory(const std::string& path, std::vector<int64_t>* t_ns) {

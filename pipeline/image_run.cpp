@@ -33,6 +33,7 @@ class FrontendRecorder {
         *frame_log_ << k << ',' << id << ',' << c.flowed << ',' << c.tracked << ',' << c.added << ','
                     << (c.measured ? 1 : 0) << ',' << (c.motion_rejected ? 1 : 0) << ',' << st.pnp_inliers << ','
                     << st.median_fb_error_px << '\n';
+      frame_log_->flush();  // whole rows only, should the run be stopped
     }
     s_.mean_static_tracks += st.static_tracked + st.static_new;
     s_.mean_object_points += st.object_points_tracked + st.object_points_new;

@@ -14,6 +14,7 @@
 #include "nav_msgs_OdometryPubSubTypes.h"
 #include "output/run_report.h"
 #include "output/trajectory_io.h"
+#include "output/whole_file.h"
 #include "plugin/dds_session.h"
 #include "plugin/image_message.h"
 #include "plugin/topics.h"
@@ -164,13 +165,9 @@ class Vehicle {
       // No ground truth on a vehicle: no error metrics, only the back-end's time.
       metrics["methods"]["ours"] = {{"wall_time_s", result_->wall_time_s}};
       metrics["run"] = info;
-      const std::string path = dir + "/metrics.json", partial = path + ".partial";
-      {
-        std::ofstream out(partial);
-        out << metrics.dump(2) << '\n';
-        if (!out) throw std::runtime_error("cannot write " + partial);
-      }
-      std::filesystem::rename(partial, path);
+      WholeFile out(dir + "/metrics.json");
+      out << metrics.dump(2) << '\n';
+      out.commit();
     } catch (const std::exception& e) {
       log << "vehicle '" << name_ << "': " << e.what() << std::endl;
       return;

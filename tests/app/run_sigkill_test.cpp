@@ -62,6 +62,11 @@ TEST(RunSigkill, LeavesEveryFrameThatLeftTheWindowOnDisk) {
   ASSERT_GE(speeds.size(), 2u);
   EXPECT_EQ(speeds[0], "frame,object_id,is_dynamic,est_speed_mps,gt_speed_mps");
   for (const std::string& row : speeds) EXPECT_EQ(std::count(row.begin(), row.end(), ','), 4) << row;
+  // The front-end's log is cut between rows, never inside one.
+  const std::string log = test::ReadFile(killed + "/frontend.csv");
+  ASSERT_FALSE(log.empty());
+  EXPECT_EQ(log.back(), '\n');
+  for (const std::string& row : Lines(killed + "/frontend.csv")) EXPECT_EQ(std::count(row.begin(), row.end(), ','), 8) << row;
 }
 
 }  // namespace
