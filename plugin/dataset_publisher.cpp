@@ -1,6 +1,8 @@
 #include "plugin/dataset_publisher.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <thread>
 
 #include "plugin/sensor_publisher.h"
@@ -9,7 +11,11 @@ namespace dslam {
 
 int PublishDataset(const ImageDataset& dataset, const PublishOptions& options, std::ostream& log,
                    const std::atomic<bool>* stop) {
-  if (!(options.rate_hz > 0.0)) throw std::invalid_argument("--rate must be positive");
+  // Finite and within what a sensor does: a period longer than a day is a typo, not a sensor.
+  if (!std::isfinite(options.rate_hz) || options.rate_hz < 1e-3 || options.rate_hz > 1000.0)
+    throw std::invalid_argument("--rate must be between 0.001 and 1000 Hz, got " + std::to_string(options.rate_hz));
+  if (!std::isfinite(options.wait_for_reader_s) || options.wait_for_reader_s < 0.0 || options.wait_for_reader_s > 3600.0)
+    throw std::invalid_argument("--wait must be between 0 and 3600 s, got " + std::to_string(options.wait_for_reader_s));
   if (options.start_frame < 0 || options.start_frame >= dataset.size())
     throw std::invalid_argument("--start-frame " + std::to_string(options.start_frame) + " is outside the " +
                                 std::to_string(dataset.size()) + " frames");
@@ -37,9 +43,13 @@ int PublishDataset(const ImageDataset& dataset, const PublishOptions& options, s
     ++published;
     if ((k + 1) % 10 == 0 || k + 1 == end) log << "  published frame " << k + 1 << "/" << end << std::endl;
     next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period);
-    std::this_thread::sleep_until(next);
+    // In short steps, so that a stop request (SIGINT, SIGTERM) is answered within 50 ms at any rate.
+    while (std::chrono::steady_clock::now() < next && !(stop && *stop))
+      std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(next - std::chrono::steady_clock::now(),
+                                                                                 std::chrono::milliseconds(50)));
   }
-  sensors.flush();  // let reliable writers deliver what is queued before the participant goes
+  // Let reliable writers deliver what is queued before the participant goes (not when asked to stop).
+  if (!(stop && *stop)) sensors.flush();
   return published;
 }
 
