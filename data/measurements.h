@@ -32,6 +32,12 @@ struct OdometryMeasurement {
   Vec6 sigma = Vec6::Constant(0.01);  // [translation m x3; rotation rad x3]
 };
 
+// The increment over two consecutive ones (a then b), for a frame dropped between them; the sigmas add
+// in quadrature (independent increments, rotation's effect on the translation neglected).
+inline OdometryMeasurement Compose(const OdometryMeasurement& a, const OdometryMeasurement& b) {
+  return {a.T_prev_curr * b.T_prev_curr, (a.sigma.array().square() + b.sigma.array().square()).sqrt().matrix()};
+}
+
 struct FrameMeasurement {
   int frame_index = 0;
   int64_t t_ns = 0;

@@ -43,9 +43,13 @@ void StagedPipeline::fail(std::exception_ptr error) {
 
 void StagedPipeline::runFrontend() {
   int accepted = 0;
+  // The odometry of frames the front-end rejected, carried into the next accepted frame's increment so
+  // that the chain of poses stays whole.
+  std::optional<OdometryMeasurement> carried;
   while (std::optional<ImageFrame> frame = frames_.pop()) {
     if (abort_) return;
     try {
+      if (carried && frame->odometry) frame->odometry = Compose(*carried, *frame->odometry);
       if (!frontend_) {
         if (camera_.width == 0 || camera_.height == 0) camera_.width = frame->image.cols, camera_.height = frame->image.rows;
         frontend_ = std::make_unique<ImageFrontend>(config_.frontend, camera_);
@@ -57,9 +61,11 @@ void StagedPipeline::runFrontend() {
         m = frontend_->process(*frame);
       } catch (const std::invalid_argument& e) {
         if (!callbacks_.on_rejected) throw;
+        if (frame->odometry) carried = frame->odometry;  // already composed with what was carried before
         callbacks_.on_rejected(*frame, e.what());
         continue;
       }
+      carried.reset();
       const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
       ++accepted;
       if (callbacks_.on_measurement) callbacks_.on_measurement(m, frontend_->lastStats(), ms);
