@@ -20,13 +20,19 @@ int RunFiguresCommand(const std::string& dir, const FigureOptions& options, std:
       err << "dslam figures: error: " << error << std::endl;
       return 3;
     }
-    const std::vector<std::string> files = {"trajectory.png", "speeds.png", "errors.png", "map.png"};
-    DrawTrajectoryFigure(results, dir + "/" + files[0], options);
-    DrawSpeedsFigure(results, dir + "/" + files[1], options);
-    DrawErrorsFigure(results, dir + "/" + files[2], options);
-    DrawMapFigure(results, dir + "/" + files[3], options);
+    // The error plots need ground truth; every other figure is drawn without it.
+    std::vector<std::string> files = {"trajectory.png", "speeds.png", "map.png"};
+    DrawTrajectoryFigure(results, dir + "/trajectory.png", options);
+    DrawSpeedsFigure(results, dir + "/speeds.png", options);
+    if (results.has_ground_truth) {
+      DrawErrorsFigure(results, dir + "/errors.png", options);
+      files.insert(files.begin() + 2, "errors.png");
+    }
+    DrawMapFigure(results, dir + "/map.png", options);
     WriteReportHtml(results, files, dir + "/report.html");
-    out << "Figures written to " << dir << " (trajectory.png, speeds.png, errors.png, map.png, report.html) in "
+    std::string list;
+    for (const auto& f : files) list += f + ", ";
+    out << "Figures written to " << dir << " (" << list << "report.html) in "
         << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s" << std::endl;
     return 0;
   } catch (const std::exception& e) {

@@ -87,9 +87,14 @@ RunResults ReadRunResults(const std::string& dir) {
       throw std::runtime_error(path + ": not valid JSON: " + e.what());
     }
   }
-  r.camera_gt = ReadTumTrajectory(dir + "/camera_gt.tum", &r.t_ns);
-  r.camera_est = ReadTumTrajectory(dir + "/camera_ours.tum");
-  if (r.camera_est.size() != r.camera_gt.size())
+  r.has_ground_truth = fs::exists(dir + "/camera_gt.tum");
+  if (r.has_ground_truth) {
+    r.camera_gt = ReadTumTrajectory(dir + "/camera_gt.tum", &r.t_ns);
+    r.camera_est = ReadTumTrajectory(dir + "/camera_ours.tum");
+  } else {
+    r.camera_est = ReadTumTrajectory(dir + "/camera_ours.tum", &r.t_ns);
+  }
+  if (r.has_ground_truth && r.camera_est.size() != r.camera_gt.size())
     throw std::runtime_error(dir + "/camera_ours.tum: " + std::to_string(r.camera_est.size()) + " poses for " +
                              std::to_string(r.camera_gt.size()) + " in camera_gt.tum");
 
@@ -105,6 +110,10 @@ RunResults ReadRunResults(const std::string& dir) {
     s.estimated = !row[3].empty();
     s.is_dynamic = row[2] == "1";
     if (s.estimated) s.est_mps = ParseDouble(row[3], speeds_path, line, "estimated speed");
+    if (!r.has_ground_truth) {
+      if (s.estimated) r.speeds.push_back(s);
+      continue;
+    }
     if (row[4].empty()) continue;  // estimate without a ground-truth pair
     s.gt_mps = ParseDouble(row[4], speeds_path, line, "ground-truth speed");
     r.speeds.push_back(s);
@@ -128,7 +137,7 @@ RunResults ReadRunResults(const std::string& dir) {
   }
 
   const std::string centroids_path = dir + "/object_centroids_gt.csv";
-  const CsvTable centroids =
+  const CsvTable centroids = !r.has_ground_truth && !fs::exists(centroids_path) ? CsvTable{} :
       ReadCsv(centroids_path, {"frame", "object_id", "category", "observed", "x", "y", "z"});
   for (size_t i = 0; i < centroids.rows.size(); ++i) {
     const auto& row = centroids.rows[i];

@@ -16,6 +16,9 @@ struct RunResults {
   std::string dir;
   nlohmann::json metrics;
   std::vector<int64_t> t_ns;
+  // False for a run on data without ground truth (a recording, `serve`): camera_gt, the centroids and the
+  // motions' ground truth are empty, and speeds hold the estimates alone.
+  bool has_ground_truth = true;
   std::vector<SE3> camera_gt, camera_est;  // ours
   struct SpeedRow {
     int frame = 0, object_id = 0;

@@ -80,6 +80,7 @@ void StyleChart(vtkChart* chart, const std::string& title, const std::string& x_
 
 vtkPlot* AddLine(vtkChartXY* chart, const Series& data, const std::array<unsigned char, 3>& colour, float width,
                  bool dashed, const std::string& label) {
+  if (data.size() < 2) return nullptr;  // nothing to draw (VTK complains about a line of fewer points)
   vtkNew<vtkTable> table;
   vtkNew<vtkFloatArray> x, y;
   x->SetName("x");
@@ -166,8 +167,8 @@ PlotArea DrawTrajectoryFigure(const RunResults& r, const std::string& png, const
   Series gt, est;
   for (const auto& T : r.camera_gt) gt.emplace_back(T.translation().x(), T.translation().z());
   for (const auto& T : r.camera_est) est.emplace_back(T.translation().x(), T.translation().z());
-  for (const auto& p : gt) extend(p.first, p.second);
-  AddLine(chart, gt, kGroundTruthColour, Px(3.0, o), false, "camera ground truth");
+  for (const auto& p : gt.empty() ? est : gt) extend(p.first, p.second);
+  if (!gt.empty()) AddLine(chart, gt, kGroundTruthColour, Px(3.0, o), false, "camera ground truth");
   AddLine(chart, est, kEstimateColour, Px(2.0, o), false, "camera estimate (ours)");
 
   std::map<int, std::map<int, Vec3>> centroids;  // object -> frame -> ground-truth centroid
@@ -238,7 +239,7 @@ PlotArea DrawTrajectoryFigure(const RunResults& r, const std::string& png, const
 void DrawSpeedsFigure(const RunResults& r, const std::string& png, const FigureOptions& o) {
   std::map<int, Series> est, gt;
   for (const auto& s : r.speeds) {
-    gt[s.object_id].emplace_back(s.frame, s.gt_mps * kMpsToKmh);
+    if (r.has_ground_truth) gt[s.object_id].emplace_back(s.frame, s.gt_mps * kMpsToKmh);
     if (s.estimated) est[s.object_id].emplace_back(s.frame, s.est_mps * kMpsToKmh);
   }
   // The moving objects with most estimates, at most 16 panels.
@@ -263,11 +264,15 @@ void DrawSpeedsFigure(const RunResults& r, const std::string& png, const FigureO
     auto* chart = vtkChartXY::SafeDownCast(matrix->GetChart(vtkVector2i(i % cols, rows - 1 - i / cols)));
     const int palette = static_cast<int>(std::find(objects.begin(), objects.end(), id) - objects.begin());
     StyleChart(chart, "object " + std::to_string(id), "frame", "speed (km/h)", o, 11);
-    AddLine(chart, gt[id], kGroundTruthColour, Px(2.0, o), true, "ground truth");
+    if (!gt[id].empty()) AddLine(chart, gt[id], kGroundTruthColour, Px(2.0, o), true, "ground truth");
     AddLine(chart, est[id], ObjectColour(palette), Px(2.0, o), false, "estimate");
     chart->SetShowLegend(i == 0);
   }
-  AddFigureTitle(view, "Object speeds: estimate (solid) vs ground truth (dashed) - " + r.title(), o);
+  AddFigureTitle(view,
+                 (r.has_ground_truth ? "Object speeds: estimate (solid) vs ground truth (dashed) - "
+                                     : "Object speeds (no ground truth) - ") +
+                     r.title(),
+                 o);
   SavePng(view->GetRenderWindow(), png);
 }
 

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "app/figures_command.h"
 #include "app/render_scene_command.h"
 #include "support/no_display.h"
 #include "support/rendered_city.h"
@@ -74,6 +75,32 @@ TEST(RunCommand, DenseFlowAndOverlapAssociationAlsoFollowTheCars) {
   int rows = 0;
   while (std::getline(objects, line)) ++rows;
   EXPECT_GE(rows, 3);  // the city's cars in view
+}
+
+TEST(RunCommand, WithoutGroundTruthEveryFigureThatNeedsNoneIsDrawnAndTheExitIs0) {
+  test::ScopedNoDisplay no_display;
+  const std::string data = test::TempPath("run_city_no_gt");
+  fs::remove_all(data);
+  fs::create_directories(data);
+  for (const char* entry : {"calib.txt", "image_0", "depth", "mask", "odometry.txt", "times.txt"})
+    fs::copy(CityDataset() + "/" + entry, data + "/" + entry, fs::copy_options::recursive);
+  RunCommandOptions options;
+  options.dataset_dir = data;
+  options.frames = 10;
+  options.out_dir = test::TempPath("run_no_gt_out");
+  std::ostringstream out, err;
+  ASSERT_EQ(RunRunCommand(options, out, err), 0) << err.str() << out.str();
+  EXPECT_NE(out.str().find("No ground truth"), std::string::npos) << out.str();
+  for (const char* f : {"trajectory.png", "speeds.png", "map.png", "report.html"})
+    EXPECT_TRUE(fs::exists(options.out_dir + "/" + f)) << f;
+  EXPECT_FALSE(fs::exists(options.out_dir + "/errors.png"));
+  // What serve leaves (no ground-truth centroids, no per-object table) is drawn too.
+  fs::remove(options.out_dir + "/object_centroids_gt.csv");
+  fs::remove(options.out_dir + "/objects.csv");
+  fs::remove(options.out_dir + "/trajectory.png");
+  std::ostringstream out2, err2;
+  EXPECT_EQ(RunFiguresCommand(options.out_dir, FigureOptions{}, out2, err2), 0) << err2.str();
+  EXPECT_TRUE(fs::exists(options.out_dir + "/trajectory.png"));
 }
 
 TEST(RunCommand, BadInputGivesOneLineAndExitStatus2) {
