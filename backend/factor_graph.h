@@ -60,9 +60,9 @@ struct OdometryEntry {
   Vec6 sigma;
 };
 
-// The ternary factor; once the previous point has been marginalised (prev_point_var = -1) it is a
-// binary factor on (curr, H) with the previous point's marginal mean and a whitening that includes
-// its marginal covariance: r = sqrt_info * (l_k - R_H * prev_mean - t_H).
+// The ternary factor. With prev_point_var = -1 it is a binary factor on (curr, H) with a fixed previous
+// point and whitening: r = sqrt_info * (l_k - R_H * prev_mean - t_H). (The smoother no longer makes
+// these: a marginalised predecessor leaves a LinearPointFactor, which keeps its camera.)
 struct PointMotionEntry {
   int prev_point_var;
   int curr_point_var;

@@ -324,9 +324,9 @@ class WindowProblem {
     }
   }
 
-  // Every factor of a group touches one pose, so the group's pose-pose Hessian is block-diagonal and goes
-  // straight into S; the point-pose coupling is kept per pose (W_a, np x 6) and its Schur complement
-  // -W_a^T Hpp^-1 W_c is formed block by block.
+  // A group's factors touch one pose each, except the linear factors (a camera and a motion): their
+  // pose-pose terms go straight into S. The point-pose coupling W_a is kept as sparse 3x6 row blocks and
+  // its Schur complement -W_a^T Hpp^-1 W_c is formed block by block.
   template <int kNp>
   void eliminateWith(Group& g, double lambda, MatX* S, VecX* b, VecX* diag) {
     using MatPP = Eigen::Matrix<double, kNp, kNp>;
