@@ -7,6 +7,7 @@
 
 #include "data/kitti_tracking.h"
 #include "pipeline/config_yaml.h"
+#include "plugin/udp_buffer_check.h"
 
 namespace dslam {
 namespace {
@@ -60,6 +61,14 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
     out << "dslam serve: domain " << options.domain_id << ", vehicles:";
     for (const auto& v : serve.vehicles) out << " '" << v << "'";
     out << "; waiting for frames (SIGINT or SIGTERM to stop)" << std::endl;
+    if (const auto requested = ProfileUdpReceiveBuffer(serve.profiles_file)) {
+      if (const auto warning = CheckUdpReceiveBuffer(*requested)) err << "dslam serve: warning: " << *warning << std::endl;
+    } else {
+      err << "dslam serve: warning: " << serve.profiles_file
+          << " gives the UDPv4 transport no receiveBufferSize: images over UDP will lose fragments (README, "
+             "Vehicle network)"
+          << std::endl;
+    }
     const auto start = std::chrono::steady_clock::now();
     auto last_status = start;
     while (!g_stop) {
