@@ -15,7 +15,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/video/tracking.hpp>
 
-#include "app/render_scene_command.h"
+#include "bench/rendered_city.h"
 #include "bench/percentile.h"
 #include "backend/methods.h"
 #include "data/image_dataset.h"
@@ -36,12 +36,8 @@ int main(int argc, char** argv) {
     std::cerr << "usage: bench_frontend [DATASET_DIR] [frames >= 3]\n";
     return 2;
   }
-  if (dir.empty()) {
-    dir = (std::filesystem::temp_directory_path() / "dslam_bench_frontend_city").string();
-    dslam::RenderSceneOptions render;
-    render.scenario = "city", render.frames = max_frames, render.out_dir = dir, render.quiet = true;
-    if (const int status = dslam::RunRenderSceneCommand(render, std::cout, std::cerr); status != 0) return status;
-  }
+  dir = dslam::bench::DatasetOrRenderedCity(dir, max_frames, "dslam_bench_frontend_city");
+  if (dir.empty()) return 1;
   cv::setNumThreads(1);  // the target is for one core
   const dslam::RunConfig base = argc > 3 ? dslam::LoadRunConfig(argv[3]) : dslam::RunConfig{};
   dslam::RunConfig config = base;

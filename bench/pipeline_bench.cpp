@@ -16,7 +16,7 @@
 #include <iostream>
 #include <vector>
 
-#include "app/render_scene_command.h"
+#include "bench/rendered_city.h"
 #include "app/run_command.h"
 #include "bench/percentile.h"
 #include "data/image_dataset.h"
@@ -88,12 +88,8 @@ int main(int argc, char** argv) {
     std::cerr << "usage: bench_pipeline [DATASET_DIR] [frames >= 3] [repeats >= 1] [long_run_frames >= 0]\n";
     return 2;
   }
-  if (dir.empty()) {
-    dir = (std::filesystem::temp_directory_path() / "dslam_bench_pipeline_city").string();
-    dslam::RenderSceneOptions render;
-    render.scenario = "city", render.frames = max_frames, render.out_dir = dir, render.quiet = true;
-    if (const int status = dslam::RunRenderSceneCommand(render, std::cout, std::cerr); status != 0) return status;
-  }
+  dir = dslam::bench::DatasetOrRenderedCity(dir, max_frames, "dslam_bench_pipeline_city");
+  if (dir.empty()) return 1;
   dslam::RunConfig config;  // as `dslam run` by default: ours smoothed, window of 10
   config.backend.default_mode = dslam::ParseMotionMode(dslam::kRunDefaultMode);
   config.backend.schedule = dslam::ParseSchedule(dslam::RunCommandOptions().schedule.value());
