@@ -92,7 +92,7 @@ int main(int argc, char** argv) {
   if (dir.empty()) return 1;
   dslam::RunConfig config;  // as `dslam run` by default: ours smoothed, window of 10
   config.backend.default_mode = dslam::ParseMotionMode(dslam::kRunDefaultMode);
-  config.backend.schedule = dslam::ParseSchedule(dslam::RunCommandOptions().schedule.value());
+  config.backend.schedule = dslam::ParseSchedule(dslam::RunCommandOptions().default_schedule.value());
   const dslam::ImageDataset data(dir, config.dataset);
   const int frames = std::min(max_frames, data.size());
   std::vector<dslam::ImageFrame> images;
