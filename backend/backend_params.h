@@ -45,7 +45,8 @@ struct BackendParams {
   MotionMode slam_mot_mode = MotionMode::kPerStep;
   RansacParams motion_ransac{200, 0.3, 4, 7};  // H initialisation and outlier-track rejection
   // Fixed-lag smoother: per-frame object points and object motions stay this many frames (2..W) in the
-  // window; older ones are marginalised (backend/marginalisation.h). Cameras and static structure stay W.
+  // window; older ones are marginalised (backend/marginalisation.h). Cameras, static structure and the
+  // points of objects with one motion for their whole track (constant mode) stay W.
   int object_window_frames = 3;
   int max_iterations_batch = 50;
   int max_iterations_window = 10;

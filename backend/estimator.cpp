@@ -35,7 +35,14 @@ void Estimator::addFrame(const FrameMeasurement& frame) {
   const auto start = std::chrono::steady_clock::now();
   const int window = params_.schedule.window_frames;
   const int object_window = std::min(params_.object_window_frames, window);
-  if (k - object_window >= 0) MarginaliseObjectFrame(params_, frame_rate_hz_, k - object_window, &graph_, sink_);
+  if (object_window == window) {
+    if (k - window >= 0) MarginaliseObjectFrame(params_, frame_rate_hz_, k - window, &graph_, sink_);
+  } else {
+    if (k - object_window >= 0)
+      MarginaliseObjectFrame(params_, frame_rate_hz_, k - object_window, &graph_, sink_, ObjectWindow::kPerFrameMotion);
+    if (k - window >= 0)
+      MarginaliseObjectFrame(params_, frame_rate_hz_, k - window, &graph_, sink_, ObjectWindow::kTrackMotion);
+  }
   if (k - window >= 0) {
     MarginaliseCameraFrame(params_, k - window, &graph_, sink_);
     cameras_final_ = k - window + 1;

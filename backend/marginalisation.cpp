@@ -3,6 +3,8 @@
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
 
+#include <algorithm>
+#include <deque>
 #include <optional>
 #include <unordered_map>
 #include <unordered_set>
@@ -26,6 +28,11 @@ std::optional<Vec3> Centroid(const FactorGraph& graph, const std::vector<int>& v
   }
   if (n == 0) return std::nullopt;
   return sum / static_cast<double>(n);
+}
+
+template <typename T, typename Pred>
+void EraseIf(std::vector<T>& items, Pred pred) {
+  items.erase(std::remove_if(items.begin(), items.end(), pred), items.end());
 }
 
 // The residual of a linear factor at the graph's current values.
@@ -61,9 +68,16 @@ ObjectMotionEstimate MotionEstimateOf(const FactorGraph& graph, const ObjectTran
   return m;
 }
 
+ObjectWindow ObjectWindowOf(const BackendParams& params, int object_id) {
+  return params.modeFor(object_id) == MotionMode::kConstant ? ObjectWindow::kTrackMotion : ObjectWindow::kPerFrameMotion;
+}
+
 void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, int m, FactorGraph* graph,
-                            EstimateSink* sink) {
+                            EstimateSink* sink, ObjectWindow which) {
   const HuberLoss huber{params.noise.huber_delta};
+  auto selected = [&](int object_id) {
+    return object_id >= 0 && (which == ObjectWindow::kAll || ObjectWindowOf(params, object_id) == which);
+  };
   const double* cam = graph->camera(m);
   const Mat3 R = BlockRotationMatrix(cam);
   const Vec3 t = BlockTranslation(cam);
@@ -71,7 +85,7 @@ void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, i
 
   // The transitions into m+1 start from the points at m: their centroid is final now.
   for (auto& tr : graph->transitions)
-    if (tr.frame == m + 1 && !tr.centroid_prev_world) tr.centroid_prev_world = Centroid(*graph, tr.prev_point_vars);
+    if (tr.frame == m + 1 && !tr.centroid_prev_world && selected(tr.object_id)) tr.centroid_prev_world = Centroid(*graph, tr.prev_point_vars);
 
   // Each object point whose last measurement is at m is marginalised. Its factors that involve only it
   // (its prior, the factor from its predecessor with the motion at its estimate, the linear factor its
@@ -87,7 +101,7 @@ void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, i
   std::unordered_map<int, const PointMeasurementEntry*> measurement;
   for (const auto& e : fm.measurements) {
     const PointVariable& var = graph->points.at(e.point_var);
-    if (var.object_id < 0 || var.last_frame != m) continue;
+    if (!selected(var.object_id) || var.last_frame != m) continue;
     auto [it, is_new] = unary.try_emplace(e.point_var);
     if (is_new) {
       it->second.info = var.prior_info;
@@ -106,8 +120,8 @@ void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, i
     const auto it = unary.find(pm.curr_point_var);
     if (it == unary.end()) continue;
     const MotionVariable& H = graph->motions.at(pm.motion_var);
-    const Mat3 S = pm.prev_point_var >= 0 ? Mat3(Mat3::Identity() * inv_motion_sigma) : pm.sqrt_info;
-    const Vec3 prev = pm.prev_point_var >= 0 ? graph->points.at(pm.prev_point_var).position() : pm.prev_mean_world;
+    const Mat3 S = Mat3::Identity() * inv_motion_sigma;
+    const Vec3 prev = graph->points.at(pm.prev_point_var).position();
     Mat3 J_curr;
     const Vec3 r = PointMotionResidual(BlockRotationMatrix(H.H_anchor.data()), BlockTranslation(H.H_anchor.data()),
                                        H.anchor_world, prev, graph->points.at(pm.curr_point_var).position(), S, nullptr,
@@ -129,7 +143,7 @@ void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, i
     FrameFactors& next = graph->frame(m + 1);
     std::vector<PointMotionEntry> kept_motions;
     for (const auto& pm : next.point_motions) {
-      const auto u = pm.prev_point_var >= 0 ? unary.find(pm.prev_point_var) : unary.end();
+      const auto u = unary.find(pm.prev_point_var);
       const auto meas = u == unary.end() ? measurement.end() : measurement.find(pm.prev_point_var);
       if (meas == measurement.end()) {
         kept_motions.push_back(pm);
@@ -184,7 +198,7 @@ void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, i
   kept.reserve(fm.measurements.size());
   for (const auto& e : fm.measurements) {
     const PointVariable& var = graph->points.at(e.point_var);
-    if (var.object_id >= 0 && var.first_frame == m && var.last_frame == m) {
+    if (selected(var.object_id) && var.first_frame == m && var.last_frame == m) {
       sink->pointFinal({m, var.track_id, var.object_id, var.position()});
       graph->points.erase(e.point_var);
     } else {
@@ -192,18 +206,21 @@ void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, i
     }
   }
   fm.measurements.swap(kept);
-  fm.point_motions.clear();
-  fm.smoothness.clear();
-  fm.linear_factors.clear();
-
-  while (!graph->transitions.empty() && graph->transitions.front().frame <= m) {
-    const ObjectTransition& tr = graph->transitions.front();
+  // Transitions are in frame order; those of other objects stay until their own window lets them go.
+  std::deque<ObjectTransition> kept_transitions;
+  for (ObjectTransition& tr : graph->transitions) {
+    if (tr.frame > m || !selected(tr.object_id)) {
+      kept_transitions.push_back(std::move(tr));
+      continue;
+    }
     if (!(tr.is_dynamic && tr.motion_var < 0)) sink->motionFinal(MotionEstimateOf(*graph, tr, frame_rate_hz));
-    graph->transitions.pop_front();
   }
+  graph->transitions.swap(kept_transitions);
   if (m + 1 < graph->numFrames()) {
     for (auto& s : graph->frame(m + 1).smoothness) {
-      if (s.prev_motion_var < 0 || graph->motions.at(s.prev_motion_var).last_frame > m) continue;
+      if (s.prev_motion_var < 0 || graph->motions.at(s.prev_motion_var).last_frame > m ||
+          !selected(graph->motions.at(s.prev_motion_var).object_id))
+        continue;
       const MotionVariable& prev = graph->motions.at(s.prev_motion_var);
       s.prev_fixed = prev.H_anchor;
       s.prev_fixed_anchor = prev.anchor_world;
@@ -211,7 +228,24 @@ void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, i
     }
   }
   for (auto it = graph->motions.begin(); it != graph->motions.end();)
-    it = it->second.last_frame <= m ? graph->motions.erase(it) : std::next(it);
+    it = it->second.last_frame <= m && selected(it->second.object_id) ? graph->motions.erase(it) : std::next(it);
+  // What frame m had into it from m-1 was folded into its points at m, which are gone now (those of
+  // other objects stay with their points).
+  if (which == ObjectWindow::kAll) {
+    fm.point_motions.clear();
+    fm.smoothness.clear();
+    fm.linear_factors.clear();
+  } else {
+    auto gone_point = [&](int var) { return var >= 0 && !graph->points.count(var); };
+    auto gone_motion = [&](int var) { return var >= 0 && !graph->motions.count(var); };
+    EraseIf(fm.point_motions, [&](const PointMotionEntry& e) {
+      return gone_point(e.prev_point_var) || gone_point(e.curr_point_var) || gone_motion(e.motion_var);
+    });
+    EraseIf(fm.linear_factors,
+            [&](const LinearPointFactor& e) { return gone_point(e.point_var) || gone_motion(e.motion_var); });
+    EraseIf(fm.smoothness,
+            [&](const SmoothnessEntry& e) { return gone_motion(e.prev_motion_var) || gone_motion(e.curr_motion_var); });
+  }
 }
 
 void MarginaliseCameraFrame(const BackendParams& params, int m, FactorGraph* graph, EstimateSink* sink) {

@@ -32,10 +32,18 @@ namespace dslam {
 ObjectMotionEstimate MotionEstimateOf(const FactorGraph& graph, const ObjectTransition& transition,
                                       double frame_rate_hz);
 
-// Frame m leaves the object window: its per-frame object points are marginalised, its transitions'
-// motions are final (sent to the sink) and motions no longer referenced are retired.
+// Which objects leave with a frame. An object whose motion is one variable for its whole track (constant
+// mode) keeps its per-frame points for the whole camera window: eliminating them earlier would hold its
+// cameras and its motion at estimates that are still moving, and that motion is what ties its frames
+// together. Objects with a motion per frame (per-step, smoothed) leave the shorter object window.
+enum class ObjectWindow { kPerFrameMotion, kTrackMotion, kAll };
+ObjectWindow ObjectWindowOf(const BackendParams& params, int object_id);
+
+// Frame m leaves the object window of the objects `which` selects: their per-frame object points at m are
+// marginalised, their transitions into m are final (sent to the sink) and motions no longer referenced
+// are retired.
 void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, int m, FactorGraph* graph,
-                            EstimateSink* sink);
+                            EstimateSink* sink, ObjectWindow which = ObjectWindow::kAll);
 
 // Frame m leaves the camera window: its camera is final, its remaining measurements are folded into
 // their landmarks' priors (or retired with the landmark), and frames before m are dropped (camera m

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <map>
+
 #include "backend/graph_solver.h"
 #include "frontend/dynamic_object_classifier.h"
 #include "simulation/scenarios.h"
@@ -147,6 +150,55 @@ TEST(FixedLagSmoother, ProblemSizeAndStoredGraphDoNotGrowWithSequenceLength) {
   // (Without forgetting: 301 at frame 100, 922 at frame 400.)
   EXPECT_LT(sizes[1].identities, 1.5 * sizes[0].identities);
   EXPECT_EQ(discard.cameras, static_cast<int>(frames.size()) - 10);
+}
+
+
+TEST(FixedLagSmoother, ObjectsWithOneMotionKeepTheirPointsForTheCameraWindow) {
+  ScenarioOptions opt;
+  opt.num_frames = 30;
+  const Sequence seq = MakeScenario("city", opt);
+  const auto frames = Labelled(seq);
+  // The object seen dynamic most often gets one motion for its whole track; the others one per frame.
+  std::map<int, int> dynamic_frames;
+  for (const auto& f : frames)
+    for (const auto& o : f.objects) dynamic_frames[o.object_id] += o.is_dynamic;
+  ASSERT_FALSE(dynamic_frames.empty());
+  const int constant_object =
+      std::max_element(dynamic_frames.begin(), dynamic_frames.end(), [](auto& a, auto& b) { return a.second < b.second; })
+          ->first;
+  ASSERT_GT(dynamic_frames[constant_object], 20);
+  BackendParams params;
+  params.schedule = {ScheduleKind::kSlidingWindow, 8};
+  params.object_window_frames = 3;
+  params.mode_per_object[constant_object] = MotionMode::kConstant;
+  NullSink discard;
+  EstimatorOptions options;
+  options.sink = &discard;
+  Estimator estimator(params, seq.frame_rate_hz, options);
+  int checked = 0;
+  for (size_t k = 0; k < frames.size(); ++k) {
+    estimator.addFrame(frames[k]);
+    if (k < 12) continue;
+    int oldest_constant = static_cast<int>(k), oldest_per_frame = static_cast<int>(k);
+    for (const auto& [id, var] : estimator.graph().points) {
+      if (var.object_id < 0 || var.first_frame != var.last_frame) continue;
+      int& oldest = var.object_id == constant_object ? oldest_constant : oldest_per_frame;
+      oldest = std::min(oldest, var.first_frame);
+    }
+    EXPECT_EQ(oldest_per_frame, static_cast<int>(k) - 2) << k;
+    if (oldest_constant < static_cast<int>(k)) {
+      EXPECT_EQ(oldest_constant, static_cast<int>(k) - 7) << k;
+      ++checked;
+    }
+    // Every transition still in the graph refers to live variables (the solver ran on it).
+    for (const auto& tr : estimator.graph().transitions) {
+      if (tr.motion_var < 0) continue;
+      EXPECT_TRUE(estimator.graph().motions.count(tr.motion_var)) << k;
+    }
+  }
+  EXPECT_GT(checked, 5);
+  estimator.finish();
+  EXPECT_EQ(discard.cameras, static_cast<int>(frames.size()));
 }
 
 }  // namespace
