@@ -60,15 +60,12 @@ struct OdometryEntry {
   Vec6 sigma;
 };
 
-// The ternary factor. With prev_point_var = -1 it is a binary factor on (curr, H) with a fixed previous
-// point and whitening: r = sqrt_info * (l_k - R_H * prev_mean - t_H). (The smoother no longer makes
-// these: a marginalised predecessor leaves a LinearPointFactor, which keeps its camera.)
+// The ternary factor l_k = H * l_{k-1}. (When the smoother marginalises l_{k-1}, it becomes a
+// LinearPointFactor on l_k, H and the camera that measured l_{k-1}.)
 struct PointMotionEntry {
   int prev_point_var;
   int curr_point_var;
   int motion_var;
-  Vec3 prev_mean_world = Vec3::Zero();
-  Mat3 sqrt_info = Mat3::Zero();  // used when prev_point_var < 0; otherwise 1/motion_sigma
 };
 
 // prev_motion_var = -1: the previous motion left the window; its final value is held in prev_fixed.

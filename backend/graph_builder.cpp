@@ -178,7 +178,7 @@ void GraphBuilder::addDynamicTransition(const ObjectObservation& obs, int frame,
   for (size_t j = 0; j < pair_index.size(); ++j) {
     if (!fit->is_inlier[j]) continue;
     const size_t i = pair_index[j];
-    factors.point_motions.push_back({prev_vars[i], curr_vars[i], motion_var, Vec3::Zero(), Mat3::Zero()});
+    factors.point_motions.push_back({prev_vars[i], curr_vars[i], motion_var});
     transition.prev_point_vars.push_back(prev_vars[i]);
   }
   transition.motion_var = motion_var;

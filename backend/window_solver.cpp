@@ -41,11 +41,9 @@ struct Measurement {
 };
 
 struct PointMotion {
-  int prev;  // point index, -1: marginalised (prev_mean)
+  int prev;  // point index
   int curr;
   int motion;  // pose-block index
-  Vec3 prev_mean;
-  Mat3 S;
   Vec3 anchor;
 };
 
@@ -79,7 +77,7 @@ struct Group {
 class WindowProblem {
  public:
   WindowProblem(const BackendParams& params, const WindowSolveOptions& options, FactorGraph* graph)
-      : params_(params), huber_{params.noise.huber_delta} {
+      : params_(params), huber_{params.noise.huber_delta}, motion_whitening_(Mat3::Identity() / params.noise.motion_sigma_m) {
     const int first = options.first_frame, last = options.last_frame;
     auto point_index = [&](int id) {
       auto [it, is_new] = point_index_.try_emplace(id, static_cast<int>(points_.size()));
@@ -98,7 +96,6 @@ class WindowProblem {
       }
       return it->second;
     };
-    const double inv_motion_sigma = 1.0 / params.noise.motion_sigma_m;
     Vec6 smooth_sigma;
     smooth_sigma << Vec3::Constant(params.noise.smoothness_sigma_t_m), Vec3::Constant(params.noise.smoothness_sigma_r_rad);
 
@@ -119,9 +116,7 @@ class WindowProblem {
                                  m.sigma_m.cwiseInverse()});
       for (const auto& m : f.point_motions) {
         const int h = motion_index(m.motion_var);
-        PointMotion pm{m.prev_point_var >= 0 ? point_index(m.prev_point_var) : -1, point_index(m.curr_point_var), h,
-                       m.prev_mean_world, m.prev_point_var >= 0 ? Mat3(Mat3::Identity() * inv_motion_sigma) : m.sqrt_info,
-                       motion_anchor_[h - num_cameras]};
+        PointMotion pm{point_index(m.prev_point_var), point_index(m.curr_point_var), h, motion_anchor_[h - num_cameras]};
         motions_.push_back(pm);
       }
       for (const auto& lf : f.linear_factors) {
@@ -160,7 +155,7 @@ class WindowProblem {
     }
     for (const auto& m : motions_) {
       const double* H = poses_[m.motion];
-      const Vec3 r = PointMotionResidual(BlockRotationMatrix(H), BlockTranslation(H), m.anchor, prevPoint(m), point(m.curr), m.S,
+      const Vec3 r = PointMotionResidual(BlockRotationMatrix(H), BlockTranslation(H), m.anchor, point(m.prev), point(m.curr), motion_whitening_,
                                          nullptr, nullptr, nullptr);
       c += huber_.rho(r.squaredNorm());
     }
@@ -273,7 +268,6 @@ class WindowProblem {
     d.tail<6>() = PoseBlockMinus(poses_[l.motion], f.motion_lin.data());
     return f.r0 + f.J * d;
   }
-  Vec3 prevPoint(const PointMotion& m) const { return m.prev >= 0 ? point(m.prev) : m.prev_mean; }
 
   // Point groups: connected components of the point-motion factors between two point variables.
   void buildGroups() {
@@ -281,7 +275,7 @@ class WindowProblem {
     std::iota(parent.begin(), parent.end(), 0);
     std::function<int(int)> find = [&](int i) { return parent[i] == i ? i : parent[i] = find(parent[i]); };
     for (const auto& m : motions_)
-      if (m.prev >= 0) parent[find(m.prev)] = find(m.curr);
+      parent[find(m.prev)] = find(m.curr);
     std::vector<int> group_of(points_.size(), -1);
     for (size_t i = 0; i < points_.size(); ++i) {
       const int root = find(static_cast<int>(i));
@@ -376,7 +370,7 @@ class WindowProblem {
     for (int mi : g.motions) {
       const PointMotion& m = motions_[mi];
       const double* H = poses_[m.motion];
-      Vec3 r = PointMotionResidual(BlockRotationMatrix(H), BlockTranslation(H), m.anchor, prevPoint(m), point(m.curr), m.S, &Jprev,
+      Vec3 r = PointMotionResidual(BlockRotationMatrix(H), BlockTranslation(H), m.anchor, point(m.prev), point(m.curr), motion_whitening_, &Jprev,
                                    &Jcurr, &Jpose);
       const double w = huber_.sqrtWeight(r.squaredNorm());
       r *= w, Jprev *= w, Jcurr *= w, Jpose *= w;
@@ -384,14 +378,12 @@ class WindowProblem {
       Hpp.template block<3, 3>(j, j) += Jcurr.transpose() * Jcurr;
       gp.template segment<3>(j) += Jcurr.transpose() * r;
       add_w(m.motion, j, Jcurr.transpose() * Jpose);
-      if (m.prev >= 0) {
-        const int i = 3 * local_index_[m.prev];
-        Hpp.template block<3, 3>(i, i) += Jprev.transpose() * Jprev;
-        Hpp.template block<3, 3>(i, j) += Jprev.transpose() * Jcurr;
-        Hpp.template block<3, 3>(j, i) += Jcurr.transpose() * Jprev;
-        gp.template segment<3>(i) += Jprev.transpose() * r;
-        add_w(m.motion, i, Jprev.transpose() * Jpose);
-      }
+      const int i = 3 * local_index_[m.prev];
+      Hpp.template block<3, 3>(i, i) += Jprev.transpose() * Jprev;
+      Hpp.template block<3, 3>(i, j) += Jprev.transpose() * Jcurr;
+      Hpp.template block<3, 3>(j, i) += Jcurr.transpose() * Jprev;
+      gp.template segment<3>(i) += Jprev.transpose() * r;
+      add_w(m.motion, i, Jprev.transpose() * Jpose);
       add_pose(m.motion, Jpose, r);
     }
     for (int li : g.linears) {
@@ -493,6 +485,7 @@ class WindowProblem {
 
   const BackendParams& params_;
   HuberLoss huber_;
+  Mat3 motion_whitening_;  // of the ternary factor: 1 / motion_sigma
   std::vector<double*> poses_;  // cameras first, then motions
   int num_cameras_ = 0;
   std::vector<Vec3> motion_anchor_;
