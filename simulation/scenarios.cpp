@@ -1,5 +1,6 @@
 #include "simulation/scenarios.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -47,6 +48,17 @@ double Ramp(double t, double t0, double v0, double accel, double v_end) {
   const double v = v0 + accel * (t - t0);
   return accel >= 0.0 ? std::min(v, v_end) : std::max(v, v_end);
 }
+
+// Frames [first, last) whose camera is within `range_m` of road position z along the road (the
+// camera path's z grows monotonically: the city's weave never turns it back).
+std::pair<int, int> FramesNear(const std::vector<GroundPose>& camera_path, int frames, double z, double range_m) {
+  const auto begin = camera_path.begin(), end = camera_path.begin() + frames;
+  auto by_z = [](const GroundPose& p, double value) { return p.z < value; };
+  const int first = static_cast<int>(std::lower_bound(begin, end, z - range_m, by_z) - begin);
+  const int last = static_cast<int>(std::lower_bound(begin, end, z + range_m, by_z) - begin);
+  return {first, last};
+}
+constexpr double kParkedExistenceRangeM = 80.0;  // well beyond any sensor range of the city
 
 // A car that exists during frames [first_frame, last_frame) of the sequence, driven by `command`.
 SimObject CityCar(int id, const GroundPose& start, const std::function<SpeedCommand(double)>& command, int first_frame,
@@ -103,10 +115,16 @@ SimWorld CityWorld(int frames, uint64_t seed) {
   for (int tile = -1; tile <= cycles; ++tile) {  // one tile behind the start, one past the end
     const double dz = tile * cycle_advance_m;
     for (const Vec3& p : pattern) world.static_points_world.emplace_back(p.x(), p.y(), p.z() + dz);
-    // Parked cars: segmented as objects, static all along. Static-only SLAM discards them.
-    for (const GroundPose& g : parked)
-      world.objects.push_back(CityCar(parked_id++, {g.x, g.z + dz, 0.0}, [](double) { return SpeedCommand{}; }, 0,
-                                      frames));
+    // Parked cars: segmented as objects, static all along. Static-only SLAM discards them. Each exists
+    // only while the camera is near (a car farther than the sensor's object range is never seen), so
+    // the world grows with the sequence, not with its square.
+    for (const GroundPose& g : parked) {
+      const double z = g.z + dz;
+      const auto [first, last] = FramesNear(camera_path, frames, z, kParkedExistenceRangeM);
+      if (first < last)
+        world.objects.push_back(CityCar(parked_id, {g.x, z, 0.0}, [](double) { return SpeedCommand{}; }, first, last));
+      ++parked_id;
+    }
   }
 
   for (int cycle = 0; cycle < cycles; ++cycle) {

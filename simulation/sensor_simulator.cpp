@@ -1,6 +1,8 @@
 #include "simulation/sensor_simulator.h"
 
+#include <algorithm>
 #include <random>
+#include <unordered_map>
 #include <stdexcept>
 
 namespace dslam {
@@ -12,6 +14,35 @@ Vec3 GaussianVec3(std::mt19937_64& rng, double sigma) {
   std::normal_distribution<double> n(0.0, sigma);
   return Vec3(n(rng), n(rng), n(rng));
 }
+
+// The static points within `range` of a position, in index order (the order noise is drawn in), through
+// a uniform grid of cells `range` wide: a frame looks at 27 cells, not at the whole world.
+class StaticPointIndex {
+ public:
+  StaticPointIndex(const std::unordered_map<int64_t, Vec3>& points_world, double range) : cell_(range) {
+    for (const auto& [id, p] : points_world) cells_[key(cellOf(p))].push_back(id);
+  }
+  std::vector<int64_t> near(const Vec3& position) const {
+    std::vector<int64_t> out;
+    const Eigen::Vector3i c = cellOf(position);
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = cells_.find(key(c + Eigen::Vector3i(dx, dy, dz)));
+          if (it != cells_.end()) out.insert(out.end(), it->second.begin(), it->second.end());
+        }
+    std::sort(out.begin(), out.end());
+    return out;
+  }
+
+ private:
+  Eigen::Vector3i cellOf(const Vec3& p) const { return (p / cell_).array().floor().cast<int>(); }
+  static int64_t key(const Eigen::Vector3i& c) {
+    return (static_cast<int64_t>(c.x()) * 2'000'003 + c.y()) * 2'000'003 + c.z();
+  }
+  double cell_;
+  std::unordered_map<int64_t, std::vector<int64_t>> cells_;
+};
 
 }  // namespace
 
@@ -71,6 +102,7 @@ Sequence SimulateSensor(const SimWorld& world, const SensorModel& sensor, const 
           obj.object_id, obj.surface[i].p_body};
   }
 
+  const StaticPointIndex static_index(gt.static_points_world, sensor.static_max_range_m);
   for (int k = 0; k < num_frames; ++k) {
     FrameMeasurement frame;
     frame.frame_index = k;
@@ -78,14 +110,16 @@ Sequence SimulateSensor(const SimWorld& world, const SensorModel& sensor, const 
     const SE3 T_camera_world = gt.T_world_camera[k].inverse();
     if (k > 0) frame.odometry = NoisyOdometry(gt.T_world_camera[k - 1].inverse() * gt.T_world_camera[k], noise, rng);
 
-    for (size_t i = 0; i < world.static_points_world.size(); ++i) {
-      const Vec3 p = T_camera_world * gt.static_points_world[static_cast<int64_t>(i)];
+    for (int64_t i : static_index.near(gt.T_world_camera[k].translation())) {
+      const Vec3 p = T_camera_world * gt.static_points_world.at(i);
       if (p.z() < sensor.min_depth_m || p.norm() > sensor.static_max_range_m || !sensor.camera.inImage(p)) continue;
-      frame.static_points.push_back({static_cast<int64_t>(i), p + GaussianVec3(rng, noise.point_sigma_m)});
+      frame.static_points.push_back({i, p + GaussianVec3(rng, noise.point_sigma_m)});
     }
 
     for (size_t j = 0; j < world.objects.size(); ++j) {
       const SimObject& obj = world.objects[j];
+      if (obj.L_world_object.empty() || k < obj.L_world_object.begin()->first || k > obj.L_world_object.rbegin()->first)
+        continue;
       ObjectGroundTruth& o = gt.objects[obj.object_id];
       if (obj.occluded_frames.count(k) || !o.L_world_object.count(k)) continue;
       if ((T_camera_world * o.centroid_world[k]).norm() >= sensor.object_max_range_m) continue;

@@ -130,6 +130,26 @@ TEST(Scenarios, LongCityRunRepeatsItsCarsWithNewIds) {
   EXPECT_FALSE(seq.gt.objects.at(10 + kCityBraking).observed_frames.empty());
 }
 
+TEST(Scenarios, ALongCityStoresItsParkedCarsOnlyWhereTheCameraPasses) {
+  // A world that stored every parked car's pose for every frame grew with the square of the length.
+  ScenarioOptions opt;
+  opt.num_frames = 3 * kCityCycleFrames;
+  const Sequence seq = MakeScenario("city", opt);
+  size_t parked_poses = 0;
+  int parked = 0;
+  for (const auto& [id, obj] : seq.gt.objects) {
+    if (id < kCityParkedIdBase) continue;
+    ++parked;
+    parked_poses += obj.L_world_object.size();
+    ASSERT_FALSE(obj.L_world_object.empty()) << id;
+    // Every frame it was seen in is one it exists in, and it exists for far fewer frames than the run.
+    for (int k : obj.observed_frames) EXPECT_TRUE(obj.L_world_object.count(k)) << id << " " << k;
+    EXPECT_LT(obj.L_world_object.size(), static_cast<size_t>(kCityCycleFrames)) << id;
+  }
+  ASSERT_GT(parked, 20);
+  EXPECT_LT(parked_poses, static_cast<size_t>(parked) * kCityCycleFrames);
+}
+
 TEST(Scenarios, BadOptionsAreErrors) {
   EXPECT_THROW(MakeScenario("highway", ScenarioOptions{}), std::invalid_argument);
   ScenarioOptions opt;
