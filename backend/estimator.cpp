@@ -54,6 +54,11 @@ void Estimator::addFrame(const FrameMeasurement& frame) {
   solve.function_tolerance = params_.window_function_tolerance;
   solve.fix_cameras = options_.fixed_T_world_camera != nullptr;
   const WindowSolveSummary summary = SolveWindow(params_, solve, &graph_);
+  if (!options_.keep_solve_history) {
+    solve_residual_blocks_.clear();
+    solve_iterations_.clear();
+    solve_times_ms_.clear();
+  }
   solve_residual_blocks_.push_back(summary.num_residual_blocks);
   solve_iterations_.push_back(summary.num_iterations);
   solve_times_ms_.push_back(

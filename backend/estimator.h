@@ -22,6 +22,9 @@ struct EstimatorOptions {
   // Where final estimates go as they become final; null: the estimator collects them and finish()
   // returns them all (runs that evaluate at the end). A streaming sink keeps memory bounded.
   EstimateSink* sink = nullptr;
+  // Keep every solve's statistics (solveTimesMs() and the like, one entry per frame); false keeps only
+  // the last solve's, for a service running for hours.
+  bool keep_solve_history = true;
 };
 
 // The current estimate of the newest frame: its camera pose and the object motions into it. This is

@@ -9,9 +9,10 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 }
 }  // namespace
 
-EstimatorOptions OnlineBackend::SinkOptions(EstimateSink* sink) {
+EstimatorOptions OnlineBackend::SinkOptions(EstimateSink* sink, bool collect) {
   EstimatorOptions options;
   options.sink = sink;
+  options.keep_solve_history = collect;
   return options;
 }
 
@@ -26,7 +27,7 @@ OnlineBackend::OnlineBackend(const RunConfig& config, double frame_rate_hz, Stre
       collect_(collect),
       tee_(&collected_, stream),
       classifier_(config.classifier, frame_rate_hz),
-      estimator_(config.backend, frame_rate_hz, SinkOptions(sinkFor(stream, collect))) {}
+      estimator_(config.backend, frame_rate_hz, SinkOptions(sinkFor(stream, collect), collect)) {}
 
 FrameEstimate OnlineBackend::add(FrameMeasurement* frame) {
   const auto start = std::chrono::steady_clock::now();

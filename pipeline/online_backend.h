@@ -30,12 +30,14 @@ class OnlineBackend {
   FrameEstimate add(FrameMeasurement* frame);
 
   int framesAdded() const { return frames_added_; }
+  // What it holds (the window's graph, the builder's identities, the solve statistics), for tests.
+  const Estimator& estimator() const { return estimator_; }
   // Call once, after the last frame: the final estimate, each frame's online estimate, the per-frame
-  // solve times and the time spent in add() and finish().
+  // solve times (only the last one without `collect`) and the time spent in add() and finish().
   MethodResult finish();
 
  private:
-  static EstimatorOptions SinkOptions(EstimateSink* sink);
+  static EstimatorOptions SinkOptions(EstimateSink* sink, bool collect);
   EstimateSink* sinkFor(StreamingFileSink* stream, bool collect);
   struct DiscardingSink : EstimateSink {
     void cameraFinal(int, const SE3&) override {}

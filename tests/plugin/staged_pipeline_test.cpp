@@ -143,7 +143,7 @@ TEST(StagedPipeline, AsAServiceItKeepsNothingPerFrameAndItsFilesHoldEveryEstimat
   EXPECT_TRUE(result.online.empty());
   EXPECT_TRUE(result.estimate.T_world_camera.empty());
   EXPECT_TRUE(result.estimate.points.empty());
-  EXPECT_EQ(result.solve_times_ms.size(), 12u);
+  EXPECT_EQ(result.solve_times_ms.size(), 1u);  // only the last solve's: nothing grows per frame
 
   const std::vector<SE3> cameras = ReadTumTrajectory(out + "/camera_ours.tum");
   ASSERT_EQ(cameras.size(), reference.estimate.T_world_camera.size());
