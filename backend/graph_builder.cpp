@@ -142,9 +142,7 @@ void GraphBuilder::addDynamicTransition(const ObjectObservation& obs, int frame,
     dst.push_back(graph_->points.at(curr_vars[i]).position());
     pair_index.push_back(i);
   }
-  RansacParams ransac = params_.motion_ransac;
-  ransac.seed += static_cast<uint64_t>(frame) * 1000003u + static_cast<uint64_t>(obs.object_id);
-  const auto fit = AlignRigidRansac(src, dst, ransac);
+  const auto fit = InitialMotion(obs, frame, src, dst);
   if (!fit) {
     // Too few consistent tracks: no motion for this transition (it lowers coverage, not accuracy).
     graph_->transitions.push_back(std::move(transition));
@@ -184,6 +182,22 @@ void GraphBuilder::addDynamicTransition(const ObjectObservation& obs, int frame,
   transition.motion_var = motion_var;
   graph_->transitions.push_back(std::move(transition));
   state.last_motion_var = motion_var;
+}
+
+std::optional<RansacResult> GraphBuilder::InitialMotion(const ObjectObservation& obs, int frame,
+                                                       const std::vector<Vec3>& src_world,
+                                                       const std::vector<Vec3>& dst_world) const {
+  if (obs.motion_fit) {
+    // The image front-end's fit, moved from camera k-1 into the world at camera k-1's estimate, is the
+    // hypothesis; its inliers are checked against the points' world estimates (the smoothed points at
+    // k-1 reject tracks the front-end's raw depths let through) and H refitted on them.
+    const SE3 T_world_prev = BlockToPose(graph_->camera(frame - 1));
+    const SE3 H_world = T_world_prev * obs.motion_fit->H_camera_prev * T_world_prev.inverse();
+    if (auto refined = RefineRigid(H_world, src_world, dst_world, params_.motion_ransac)) return refined;
+  }
+  RansacParams ransac = params_.motion_ransac;
+  ransac.seed += static_cast<uint64_t>(frame) * 1000003u + static_cast<uint64_t>(obs.object_id);
+  return AlignRigidRansac(src_world, dst_world, ransac);
 }
 
 }  // namespace dslam

@@ -45,6 +45,10 @@ class GraphBuilder {
   void addObject(const ObjectObservation& obs, int frame, const SE3& T_world_camera);
   void addDynamicTransition(const ObjectObservation& obs, int frame, ObjectTrackState& state,
                             const std::vector<int>& prev_vars, const std::vector<int>& curr_vars);
+  // The motion the transition's H starts from and the track pairs that get the ternary factor: the image
+  // front-end's fit when it made one, else RANSAC on the points' world estimates.
+  std::optional<RansacResult> InitialMotion(const ObjectObservation& obs, int frame, const std::vector<Vec3>& src_world,
+                                            const std::vector<Vec3>& dst_world) const;
 
   const BackendParams& params_;
   BuilderOptions options_;

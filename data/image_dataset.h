@@ -20,7 +20,7 @@
 
 #include "data/kitti_dataset.h"
 #include "frontend/depth_maps.h"
-#include "frontend/image_frame.h"
+#include "data/image_frame.h"
 #include "geometry/pinhole_camera.h"
 
 namespace dslam {

@@ -17,6 +17,17 @@ struct PointObservation {
   Vec3 p_camera = Vec3::Zero();
 };
 
+// An image front-end's fit of one object's own motion over k-1 -> k: 3D-3D RANSAC on its tracks with
+// the camera motion removed, in camera k-1 coordinates. Its inliers are the object's points that carry
+// on from k-1 (the front-end ends its outlier tracks). The static/dynamic test and the graph builder
+// start from it instead of fitting the same tracks again.
+struct ObjectMotionFit {
+  SE3 H_camera_prev;            // p_{k-1} -> T_prev_curr * p_k, both in camera k-1 coordinates
+  Vec3 centroid_camera_prev = Vec3::Zero();  // of the inliers at k-1
+  int num_inliers = 0;
+  double residual_sq_sum_m2 = 0.0;  // sum over inliers of |T_prev_curr * p_k - H * p_{k-1}|^2
+};
+
 // Points that fall inside one instance mask.
 struct ObjectObservation {
   int object_id = 0;
@@ -24,6 +35,7 @@ struct ObjectObservation {
   // Set by the front-end's scene-flow test over the transition from the previous frame; an object
   // first seen in this frame stays dynamic (it has no previous frame to compare with).
   bool is_dynamic = true;
+  std::optional<ObjectMotionFit> motion_fit;  // from an image front-end; absent for other sources
 };
 
 // Odometry increment T_prev_curr = T_world_camera[k-1]^-1 * T_world_camera[k] with per-axis sigmas.

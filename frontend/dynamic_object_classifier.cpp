@@ -77,22 +77,30 @@ CameraMotionEstimate DynamicObjectClassifier::cameraMotion(const FrameMeasuremen
 std::optional<ObjectMotionTest> DynamicObjectClassifier::testObjectMotion(const ObjectObservation& prev,
                                                                           const ObjectObservation& curr,
                                                                           const CameraMotionEstimate& camera) const {
-  std::vector<Vec3> prev_pts, curr_pts;
-  MatchTracks(prev.points, curr.points, &prev_pts, &curr_pts);
-  for (auto& p : curr_pts) p = camera.T_prev_curr * p;  // into camera k-1: what remains is the object's own motion
-  const auto fit = AlignRigidRansac(prev_pts, curr_pts, params_.object_ransac);
-  if (!fit) return std::nullopt;
-  Vec3 centroid = Vec3::Zero();
-  double sum_sq = 0.0;
-  for (size_t i = 0; i < prev_pts.size(); ++i) {
-    if (!fit->is_inlier[i]) continue;
-    centroid += prev_pts[i];
-    sum_sq += (curr_pts[i] - fit->transform * prev_pts[i]).squaredNorm();
+  // The image front-end has fitted this object's motion already (against its own camera motion); other
+  // sources get the same fit here, against `camera`.
+  std::optional<ObjectMotionFit> fit = curr.motion_fit;
+  if (!fit) {
+    std::vector<Vec3> prev_pts, curr_pts;
+    MatchTracks(prev.points, curr.points, &prev_pts, &curr_pts);
+    for (auto& p : curr_pts) p = camera.T_prev_curr * p;  // into camera k-1: what remains is the object's own motion
+    const auto ransac = AlignRigidRansac(prev_pts, curr_pts, params_.object_ransac);
+    if (!ransac) return std::nullopt;
+    fit = ObjectMotionFit{ransac->transform, Vec3::Zero(), 0, 0.0};
+    for (size_t i = 0; i < prev_pts.size(); ++i) {
+      if (!ransac->is_inlier[i]) continue;
+      fit->centroid_camera_prev += prev_pts[i];
+      fit->residual_sq_sum_m2 += (curr_pts[i] - ransac->transform * prev_pts[i]).squaredNorm();
+      ++fit->num_inliers;
+    }
+    fit->centroid_camera_prev /= static_cast<double>(fit->num_inliers);
   }
+  if (fit->num_inliers < params_.object_ransac.min_inliers) return std::nullopt;
   const double n = static_cast<double>(fit->num_inliers);
-  centroid /= n;
+  const Vec3 centroid = fit->centroid_camera_prev;
+  const double sum_sq = fit->residual_sq_sum_m2;
   ObjectMotionTest test;
-  const Vec3 displacement = ObjectVelocityPerFrame(fit->transform, centroid);
+  const Vec3 displacement = ObjectVelocityPerFrame(fit->H_camera_prev, centroid);
   test.speed_mps = SpeedMps(displacement, frame_rate_hz_);
   // Per-axis variance of the centroid displacement if the object were static: the object's own
   // point noise (from the fit's residuals) plus the camera motion's uncertainty at that distance.

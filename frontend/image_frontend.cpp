@@ -61,37 +61,21 @@ double Median(std::vector<float> values) {
   return *mid;
 }
 
-}  // namespace
-
-std::string FindInvalidImageFrame(const ImageFrame& frame) {
-  const std::string where = "frame " + std::to_string(frame.frame_index) + ": ";
-  if (frame.image.empty()) return where + "image is empty";
-  if (frame.image.depth() != CV_8U || (frame.image.channels() != 1 && frame.image.channels() != 3 &&
-                                       frame.image.channels() != 4))
-    return where + "image must be 8-bit grey, BGR or BGRA";
-  const cv::Size size = frame.image.size();
-  auto size_text = [](const cv::Size& s) { return std::to_string(s.width) + "x" + std::to_string(s.height); };
-  if (frame.depth_m.empty()) return where + "depth is missing";
-  if (frame.depth_m.type() != CV_32FC1) return where + "depth must be CV_32FC1 metres";
-  if (frame.depth_m.size() != size)
-    return where + "depth is " + size_text(frame.depth_m.size()) + " but the image is " + size_text(size);
-  if (!frame.instance_ids.empty()) {
-    if (frame.instance_ids.channels() != 1 ||
-        (frame.instance_ids.depth() != CV_16U && frame.instance_ids.depth() != CV_32S))
-      return where + "instance mask must be 16-bit unsigned or 32-bit signed, one channel";
-    if (frame.instance_ids.size() != size)
-      return where + "instance mask is " + size_text(frame.instance_ids.size()) + " but the image is " + size_text(size);
+ObjectMotionFit SummariseFit(const SE3& H, const std::vector<Vec3>& src, const std::vector<Vec3>& dst,
+                             const std::vector<bool>& inlier) {
+  ObjectMotionFit fit;
+  fit.H_camera_prev = H;
+  for (size_t i = 0; i < src.size(); ++i) {
+    if (!inlier[i]) continue;
+    fit.centroid_camera_prev += src[i];
+    fit.residual_sq_sum_m2 += (dst[i] - H * src[i]).squaredNorm();
+    ++fit.num_inliers;
   }
-  if (!frame.flow_to_next.empty() && (frame.flow_to_next.type() != CV_32FC2 || frame.flow_to_next.size() != size))
-    return where + "flow must be CV_32FC2 of the image size";
-  if (frame.odometry) {
-    const auto& o = *frame.odometry;
-    if (!o.T_prev_curr.translation().allFinite() || !o.T_prev_curr.rotation().coeffs().allFinite())
-      return where + "odometry increment is not finite";
-    if (!o.sigma.allFinite() || (o.sigma.array() <= 0.0).any()) return where + "odometry sigmas must be positive";
-  }
-  return {};
+  if (fit.num_inliers > 0) fit.centroid_camera_prev /= static_cast<double>(fit.num_inliers);
+  return fit;
 }
+
+}  // namespace
 
 ImageFrontend::ImageFrontend(const FrontendParams& params, const PinholeCamera& camera)
     : params_(params), camera_(camera), flow_(params.flow), associator_(params.association) {
@@ -219,6 +203,7 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
   for (size_t i = 0; i < kept.size(); ++i)
     if (kept[i].object_id != 0) object_tracks[kept[i].object_id].push_back(i);
   const SE3 T_prev_curr_or_identity = T_prev_curr.value_or(SE3());
+  std::map<int, ObjectMotionFit> fits;
   for (const auto& [object_id, indices] : object_tracks) {
     std::vector<Vec3> src, dst;
     for (size_t i : indices) {
@@ -231,6 +216,7 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
       stats.object_counts[object_id].motion_rejected = true;
     }
     for (size_t n = 0; n < indices.size(); ++n) keep[indices[n]] = fit && fit->is_inlier[n];
+    if (fit) fits[object_id] = SummariseFit(fit->transform, src, dst, fit->is_inlier);
   }
 
   std::vector<Track> tracks;
@@ -275,6 +261,7 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
         centroid.norm() > params_.object_max_distance_m)
       continue;
     obs.object_id = object_id;
+    if (const auto fit = fits.find(object_id); fit != fits.end()) obs.motion_fit = fit->second;
     measured.insert(object_id);
     stats.object_counts[object_id].measured = true;
     out.objects.push_back(std::move(obs));

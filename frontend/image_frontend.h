@@ -20,7 +20,7 @@
 
 #include "data/measurements.h"
 #include "frontend/frontend_params.h"
-#include "frontend/image_frame.h"
+#include "data/image_frame.h"
 #include "geometry/pinhole_camera.h"
 
 namespace dslam {

@@ -59,18 +59,30 @@ std::optional<RansacResult> AlignRigidRansac(const std::vector<Vec3>& src, const
     }
   }
   if (!best || best_count < params.min_inliers) return std::nullopt;
+  return RefineRigid(*best, src, dst, params);
+}
 
+std::optional<RansacResult> RefineRigid(const SE3& hypothesis, const std::vector<Vec3>& src, const std::vector<Vec3>& dst,
+                                        const RansacParams& params) {
+  const int n = static_cast<int>(src.size());
+  if (static_cast<int>(dst.size()) != n) return std::nullopt;
+  const double threshold_sq = params.inlier_threshold_m * params.inlier_threshold_m;
   RansacResult result;
   result.is_inlier.assign(n, false);
-  count_inliers(*best, &result.is_inlier);
+  auto count_inliers = [&](const SE3& T) {
+    int count = 0;
+    for (int i = 0; i < n; ++i) count += result.is_inlier[i] = (dst[i] - T * src[i]).squaredNorm() < threshold_sq;
+    return count;
+  };
+  if (count_inliers(hypothesis) < params.min_inliers) return std::nullopt;
   std::vector<Vec3> src_in, dst_in;
   for (int i = 0; i < n; ++i) {
     if (!result.is_inlier[i]) continue;
     src_in.push_back(src[i]);
     dst_in.push_back(dst[i]);
   }
-  result.transform = AlignRigid(src_in, dst_in).value_or(*best);
-  result.num_inliers = count_inliers(result.transform, &result.is_inlier);
+  result.transform = AlignRigid(src_in, dst_in).value_or(hypothesis);
+  result.num_inliers = count_inliers(result.transform);
   if (result.num_inliers < params.min_inliers) return std::nullopt;
   return result;
 }

@@ -31,4 +31,9 @@ struct RansacResult {
 std::optional<RansacResult> AlignRigidRansac(const std::vector<Vec3>& src, const std::vector<Vec3>& dst,
                                              const RansacParams& params);
 
+// RANSAC's last step from a given hypothesis (e.g. a fit made earlier on the same tracks): its inliers,
+// the least-squares refit on them, and the refit's inliers. nullopt below params.min_inliers.
+std::optional<RansacResult> RefineRigid(const SE3& hypothesis, const std::vector<Vec3>& src, const std::vector<Vec3>& dst,
+                                        const RansacParams& params);
+
 }  // namespace dslam

@@ -17,7 +17,7 @@
 #include <string>
 #include <thread>
 
-#include "frontend/image_frame.h"
+#include "data/image_frame.h"
 #include "frontend/image_frontend.h"
 #include "pipeline/bounded_queue.h"
 #include "pipeline/online_backend.h"

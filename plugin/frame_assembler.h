@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "frontend/image_frame.h"
+#include "data/image_frame.h"
 
 namespace dslam {
 

@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "frontend/image_frame.h"
+#include "data/image_frame.h"
 
 namespace dslam {
 

@@ -78,6 +78,36 @@ TEST(Estimator, SchurAndCholeskyReachTheSameSolution) {
     EXPECT_TRUE(results[0].object_motions[i].H_world.isApprox(results[1].object_motions[i].H_world, 1e-5)) << i;
 }
 
+TEST(GraphBuilder, StartsFromTheFrontEndsMotionFitAndChecksItsInliersInTheWorld) {
+  const SE3 H(Eigen::AngleAxisd(0.05, Vec3::UnitY()).toRotationMatrix(), Vec3(0.2, 0.0, 0.8));
+  FrameMeasurement f0, f1;
+  f1.frame_index = 1;
+  f1.odometry = OdometryMeasurement{SE3::Identity(), Vec6::Constant(0.01)};
+  ObjectObservation a, b;
+  a.object_id = b.object_id = 5;
+  for (int i = 0; i < 12; ++i) {
+    const Vec3 p(1.0 + 0.3 * (i % 4), 0.2 * (i / 4), 10.0 + 0.1 * i);
+    a.points.push_back({100 + i, p});
+    // Track 100 jumped to another surface: 1 m off.
+    b.points.push_back({100 + i, H * p + (i == 0 ? Vec3(0.0, 1.0, 0.0) : Vec3::Zero())});
+  }
+  ObjectMotionFit fit;  // a little off, as a fit on the front-end's raw depths would be
+  fit.H_camera_prev = H * SE3::Exp((Vec6() << 0.02, 0.0, 0.01, 0.0, 0.002, 0.0).finished());
+  fit.num_inliers = 12;
+  b.motion_fit = fit;
+  f0.objects = {a};
+  f1.objects = {b};
+  BackendParams params;
+  FactorGraph graph;
+  GraphBuilder builder(params, BuilderOptions{}, &graph);
+  builder.addFrame(f0);
+  builder.addFrame(f1);
+  // The jumped track gets no ternary factor; H starts from the refit on the others: the true motion.
+  EXPECT_EQ(graph.frame(1).point_motions.size(), 11u);
+  ASSERT_EQ(graph.motions.size(), 1u);
+  EXPECT_TRUE(graph.motions.begin()->second.worldMotion().isApprox(H, 1e-9));
+}
+
 TEST(Estimator, RejectsFramesOutOfSequence) {
   Estimator estimator(BackendParams{}, 10.0);
   FrameMeasurement f;

@@ -115,6 +115,26 @@ TEST(DynamicObjectClassifier, SignificantSmallMotionIsDynamicNoiseAloneIsNot) {
   EXPECT_GE(static_count, 19);
 }
 
+TEST(DynamicObjectClassifier, TakesTheFrontEndsMotionFitInsteadOfFittingAgain) {
+  // The points say parked, the front-end's fit (which the classifier trusts) says 0.3 m per frame.
+  TwoFrames f = MakeFrames(SE3::Identity(), true, false);
+  ObjectMotionFit fit;
+  fit.H_camera_prev = SE3(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, 0.3));
+  fit.centroid_camera_prev = Vec3(2.0, 0.0, 12.0);
+  fit.num_inliers = 30;
+  fit.residual_sq_sum_m2 = 30 * 3 * 0.01 * 0.01;
+  f.curr.objects[0].motion_fit = fit;
+  DynamicObjectClassifier c(OneStep(), 10.0);
+  const auto test = c.testObjectMotion(f.prev.objects[0], f.curr.objects[0], c.cameraMotion(f.prev, f.curr));
+  ASSERT_TRUE(test);
+  EXPECT_NEAR(test->speed_mps, 3.0, 1e-9);
+  c.label(f.prev, &f.curr);
+  EXPECT_TRUE(f.curr.objects[0].is_dynamic);
+  // A fit with too few inliers is no test.
+  f.curr.objects[0].motion_fit->num_inliers = 2;
+  EXPECT_FALSE(c.testObjectMotion(f.prev.objects[0], f.curr.objects[0], c.cameraMotion(f.prev, f.curr)));
+}
+
 TEST(DynamicObjectClassifier, FallsBackToOdometryWithoutStaticPoints) {
   DynamicObjectClassifier c(OneStep(), 10.0);
   TwoFrames parked = MakeFrames(SE3::Identity(), false, true);

@@ -91,6 +91,14 @@ TEST(ImageFrontend, TracksTheWallAndTheMovingBoxWithTheirTrueMotions) {
     }
     ASSERT_GE(box_continued, 20) << k;
     EXPECT_NEAR(sum_dx / box_continued, kBoxStepM - kCameraStepM, 0.003) << k;
+    // Its motion fit goes downstream with it: the box's own step, camera motion removed, over the
+    // tracks that carried on.
+    ASSERT_TRUE(curr.objects[0].motion_fit) << k;
+    const ObjectMotionFit& fit = *curr.objects[0].motion_fit;
+    EXPECT_EQ(fit.num_inliers, box_continued) << k;
+    EXPECT_NEAR(fit.H_camera_prev.translation().x(), kBoxStepM, 0.01) << k;
+    EXPECT_LT(fit.H_camera_prev.angle(), 0.01) << k;
+    EXPECT_NEAR(fit.centroid_camera_prev.z(), kBoxZ, 1e-3) << k;
     prev = curr;
   }
 }

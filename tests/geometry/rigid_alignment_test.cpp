@@ -66,6 +66,27 @@ TEST(AlignRigidRansac, RobustToTwentyPercentOutlierTracks) {
   EXPECT_GT((plain->translation() - T.translation()).norm(), 0.05);
 }
 
+TEST(RefineRigid, FromAnEarlierFitKeepsItsInliersRejectsTheRestAndRefits) {
+  const int n = 40;
+  const auto src = Cloud(n, 4);
+  const SE3 T = SomeMotion();
+  std::vector<Vec3> dst;
+  for (int i = 0; i < n; ++i) dst.push_back(T * src[i] + (i < 5 ? Vec3(0.0, 0.0, 1.0) : Vec3::Zero()));
+  RansacParams params;
+  params.inlier_threshold_m = 0.15;
+  // The hypothesis is a little off (an earlier fit on other data): the refit lands on T.
+  const SE3 off = T * SE3::Exp((Vec6() << 0.03, 0.0, -0.02, 0.002, 0.0, 0.001).finished());
+  const auto refined = RefineRigid(off, src, dst, params);
+  ASSERT_TRUE(refined);
+  EXPECT_TRUE(refined->transform.isApprox(T, 1e-9));
+  EXPECT_EQ(refined->num_inliers, n - 5);
+  for (int i = 0; i < n; ++i) EXPECT_EQ(refined->is_inlier[i], i >= 5) << i;
+  // A hypothesis that explains too few pairs is no fit.
+  params.min_inliers = n;
+  EXPECT_FALSE(RefineRigid(T, src, dst, params));
+  EXPECT_FALSE(RefineRigid(SE3(Eigen::Quaterniond::Identity(), Vec3(5.0, 0.0, 0.0)), src, dst, RansacParams{}));
+}
+
 TEST(AlignRigidRansac, DeterministicForSeed) {
   const auto src = Cloud(30, 4);
   std::vector<Vec3> dst;

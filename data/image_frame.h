@@ -1,6 +1,7 @@
 #pragma once
 // One frame of image input as a camera driver and segmenter deliver it: the value the image front-end
-// consumes. OpenCV matrices share their pixels on copy; the front-end never writes into them.
+// consumes, a packet between stages that no stage owns. OpenCV matrices share their pixels on copy;
+// the front-end never writes into them.
 
 #include <cstdint>
 #include <optional>
