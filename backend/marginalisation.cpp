@@ -207,9 +207,16 @@ void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, i
   }
   fm.measurements.swap(kept);
   // Transitions are in frame order; those of other objects stay until their own window lets them go.
+  // A transition whose motion is its object's one motion for the whole track is final only when that
+  // motion leaves (the track ended): until then every new frame still refines it.
+  auto motion_stays = [&](int motion_var) {
+    return motion_var >= 0 && graph->motions.at(motion_var).last_frame > m &&
+           ObjectWindowOf(params, graph->motions.at(motion_var).object_id) == ObjectWindow::kTrackMotion;
+  };
   std::deque<ObjectTransition> kept_transitions;
   for (ObjectTransition& tr : graph->transitions) {
-    if (tr.frame > m || !selected(tr.object_id)) {
+    if (tr.frame > m || !selected(tr.object_id) || motion_stays(tr.motion_var)) {
+      if (tr.centroid_prev_world) tr.prev_point_vars = {};  // those points are gone or going
       kept_transitions.push_back(std::move(tr));
       continue;
     }

@@ -41,7 +41,8 @@ ObjectWindow ObjectWindowOf(const BackendParams& params, int object_id);
 
 // Frame m leaves the object window of the objects `which` selects: their per-frame object points at m are
 // marginalised, their transitions into m are final (sent to the sink) and motions no longer referenced
-// are retired.
+// are retired. A transition on an object's one motion for its whole track is final when that motion
+// leaves (its track ended), with the motion's final value.
 void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, int m, FactorGraph* graph,
                             EstimateSink* sink, ObjectWindow which = ObjectWindow::kAll);
 
