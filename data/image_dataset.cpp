@@ -1,6 +1,7 @@
 #include "data/image_dataset.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 
@@ -21,6 +22,36 @@ std::vector<std::string> FilesWithExtension(const fs::path& dir, const std::stri
     if (entry.is_regular_file() && entry.path().extension() == ext) files.push_back(entry.path().string());
   std::sort(files.begin(), files.end());
   return files;
+}
+
+// Frame k is the image whose name is number k: images numbered by their names (000000.png, ...) must be
+// 0, 1, 2, ... with no gap, or every later image would pair with another frame's times, odometry and
+// ground truth. Throws naming the first missing frame. Names that are not numbers are taken in order.
+void RequireConsecutiveFrameNumbers(const std::vector<std::string>& images) {
+  auto number_of = [](const std::string& path, long long* n) {
+    const std::string stem = fs::path(path).stem().string();
+    if (stem.empty() || stem.size() > 18 || !std::all_of(stem.begin(), stem.end(), [](char c) { return c >= '0' && c <= '9'; }))
+      return false;
+    *n = std::stoll(stem);
+    return true;
+  };
+  std::vector<long long> numbers;
+  for (const std::string& image : images) {
+    long long n = 0;
+    if (!number_of(image, &n)) return;
+    numbers.push_back(n);
+  }
+  for (size_t k = 0; k < numbers.size(); ++k) {
+    if (numbers[k] == static_cast<long long>(k)) continue;
+    const fs::path found(images[k]);
+    char expected[64];
+    std::snprintf(expected, sizeof expected, "%0*zu%s", static_cast<int>(found.stem().string().size()), k,
+                  found.extension().string().c_str());
+    throw std::runtime_error("frame " + std::to_string(k) + " is missing: no " + (found.parent_path() / expected).string() +
+                             " (the next image is " + found.filename().string() +
+                             "); frames are numbered by their file names from 0 without gaps, and times, odometry "
+                             "and ground truth are matched to them by that number");
+  }
 }
 
 // The file of `dir` with the same stem as each image, in image order; throws naming the first missing one.
@@ -69,6 +100,7 @@ ImageDataset::ImageDataset(const std::string& dir, const ImageDatasetOptions& op
     layout_ = "vdo";
     images_ = FilesWithExtension(root / "image_0", ".png");
     if (images_.empty()) throw std::runtime_error("no .png images in " + (root / "image_0").string());
+    RequireConsecutiveFrameNumbers(images_);
     read_calib(root / "calib.txt");
     if (!fs::is_directory(root / "depth")) throw std::runtime_error("missing depth folder " + (root / "depth").string());
     depths_ = Matching(images_, root / "depth", ".png", images_.size());
@@ -101,6 +133,7 @@ ImageDataset::ImageDataset(const std::string& dir, const ImageDatasetOptions& op
         throw std::runtime_error("missing right images " + right.string() + " (depth comes from the stereo pair)");
       images_ = FilesWithExtension(left, ".png");
       if (images_.empty()) throw std::runtime_error("no .png images in " + left.string());
+      RequireConsecutiveFrameNumbers(images_);
       rights_ = Matching(images_, right, ".png", images_.size());
       depth_kind_ = DepthKind::kStereo;
       read_calib(root / "calib" / (seq + ".txt"));
@@ -138,6 +171,7 @@ ImageDataset::ImageDataset(const std::string& dir, const ImageDatasetOptions& op
       layout_ = "kitti-raw";
       images_ = FilesWithExtension(root / "image_02", ".png");
       if (images_.empty()) throw std::runtime_error("no .png images in " + (root / "image_02").string());
+      RequireConsecutiveFrameNumbers(images_);
       read_calib(root / "calib.txt");
       if (fs::is_directory(root / "velodyne_points")) {
         depths_ = Matching(images_, root / "velodyne_points", ".bin", images_.size());

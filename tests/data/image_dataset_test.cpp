@@ -107,6 +107,26 @@ TEST(ImageDataset, NamesTheMissingCorruptOrMisfitFile) {
             std::string::npos);
 }
 
+TEST(ImageDataset, AFrameMissingInTheMiddleIsAnErrorNamingItNotAShiftOfEveryLaterFrame) {
+  // Removing frame 1's files used to pair image 000002.png with frame 1's time, odometry and ground truth.
+  const std::string dir = MakeVdoDataset("vdo_gap");
+  for (const char* sub : {"image_0", "depth", "mask"}) fs::remove(dir + "/" + sub + "/" + Name(1, "png"));
+  const std::string error = ErrorOf([&] { ImageDataset(dir, {}); });
+  EXPECT_NE(error.find("frame 1 is missing: no " + dir + "/image_0/000001.png (the next image is 000002.png)"),
+            std::string::npos)
+      << error;
+  // Numbering that does not start at 0 is the same misalignment.
+  const std::string dir2 = MakeVdoDataset("vdo_late_start");
+  for (const char* sub : {"image_0", "depth", "mask"}) fs::remove(dir2 + "/" + sub + "/" + Name(0, "png"));
+  EXPECT_NE(ErrorOf([&] { ImageDataset(dir2, {}); }).find("frame 0 is missing"), std::string::npos);
+  // Names that are not frame numbers are read in order, as before.
+  const std::string dir3 = MakeVdoDataset("vdo_named");
+  for (const char* sub : {"image_0", "depth", "mask"})
+    for (int k = 0; k < 3; ++k)
+      fs::rename(dir3 + "/" + sub + "/" + Name(k, "png"), dir3 + "/" + sub + "/" + std::string("f") + Name(k, "png"));
+  EXPECT_EQ(ImageDataset(dir3, {}).size(), 3);
+}
+
 TEST(ImageDataset, DisparityDepthNeedsAStereoCalibration) {
   const std::string dir = MakeVdoDataset("vdo_disparity");
   ImageDatasetOptions options;
