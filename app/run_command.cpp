@@ -68,6 +68,7 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
                         {"mean_static_points", summary.mean_static_tracks},
                         {"mean_object_points", summary.mean_object_points},
                         {"mean_pnp_inliers", summary.mean_pnp_inliers},
+                        {"odometry_rejected_frames", summary.odometry_rejected},
                         {"median_fb_error_px", summary.median_fb_error_px}};
     info["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     WriteRunOutputs(options.out_dir, seq, outcomes, info);
@@ -76,6 +77,10 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
         << " ms/frame), " << summary.mean_static_tracks << " static and " << summary.mean_object_points
         << " object points per frame, " << summary.mean_pnp_inliers << " PnP inliers, median forward-backward error "
         << summary.median_fb_error_px << " px" << std::endl;
+    if (summary.odometry_rejected > 0)
+      out << "Odometry dropped on " << summary.odometry_rejected
+          << " frame(s): it contradicted the camera motion the static points gave (frontend.csv column odometry_rejected)"
+          << std::endl;
     if (summary.has_ground_truth) {
       const std::string what = options.category.empty() ? "all objects" : options.category + " objects";
       out << FormatMetricsTable(outcomes, "Image run on " + dataset.name() + " (" + what + " within " +

@@ -1,6 +1,10 @@
 #include "frontend/camera_motion.h"
 
+#include <cmath>
+#include <limits>
 #include <stdexcept>
+
+#include <Eigen/Cholesky>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
@@ -83,6 +87,17 @@ std::optional<PnpEstimate> EstimateCameraMotionPnp(const std::vector<Vec3>& p_pr
   }
   if (static_cast<int>(estimate.inliers.size()) < params.min_inliers) return std::nullopt;
   return estimate;
+}
+
+double OdometryDisagreementChi2(const PnpEstimate& pnp, const OdometryMeasurement& odometry) {
+  // Both as right perturbations of the PnP motion: delta ~ N(0, cov_pnp + cov_odometry) when both are right.
+  const Mat6 cov_odometry = odometry.sigma.cwiseAbs2().asDiagonal();
+  const Eigen::LDLT<Mat6> pnp_information(pnp.information);
+  if (pnp_information.info() != Eigen::Success) return 0.0;
+  const Mat6 cov = pnp_information.solve(Mat6::Identity()) + cov_odometry;
+  const Vec6 delta = (pnp.T_prev_curr.inverse() * odometry.T_prev_curr).Log();
+  const double chi2 = delta.dot(cov.ldlt().solve(delta));
+  return std::isfinite(chi2) ? chi2 : std::numeric_limits<double>::infinity();
 }
 
 SE3 FuseCameraMotion(const PnpEstimate& pnp, const OdometryMeasurement& odometry) {

@@ -28,6 +28,10 @@ struct PnpEstimate {
   std::vector<int> inliers;         // indices into the input
 };
 
+// How far the odometry increment is from the PnP motion given both uncertainties: the squared Mahalanobis
+// distance, chi-square with 6 degrees of freedom when both are right (infinite when not finite).
+double OdometryDisagreementChi2(const PnpEstimate& pnp, const OdometryMeasurement& odometry);
+
 // nullopt with fewer than params.min_inliers consistent points. `guess` (T_prev_curr) seeds the solve.
 std::optional<PnpEstimate> EstimateCameraMotionPnp(const std::vector<Vec3>& p_prev_camera, const std::vector<Vec2>& uv_curr,
                                                    const PinholeCamera& camera, const PnpParams& params,

@@ -1,5 +1,6 @@
 #include "frontend/frontend_params.h"
 
+#include <cmath>
 #include <stdexcept>
 
 namespace dslam {
@@ -10,6 +11,8 @@ void FrontendParams::validate() const {
   object_grid.validate();
   association.validate();
   pnp.validate();
+  if (!(odometry_gate_chi2 > 0.0) || !std::isfinite(odometry_gate_chi2))
+    throw std::invalid_argument("frontend odometry_gate_chi2 must be a positive finite number");
   if (!(object_max_acceleration_mps2 > 0.0)) throw std::invalid_argument("frontend object_max_acceleration_mps2 must be positive");
   if (!(frame_interval_s > 0.0)) throw std::invalid_argument("frontend frame interval must be positive");
   if (object_lattice_step_px < 1) throw std::invalid_argument("frontend object_lattice_step_px must be >= 1");

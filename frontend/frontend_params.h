@@ -24,6 +24,10 @@ struct FrontendParams {
   int mask_border_px = 2;             // points within this of a mask edge are dropped (mixed depth, occlusion)
   AssociationParams association;
   PnpParams pnp;
+  // Odometry whose increment is this far from the PnP motion (squared Mahalanobis distance, both
+  // uncertainties; chi-square with 6 dof, median about 5 on clean data) is dropped for that frame and
+  // counted. 50 is a chance below 1e-8 when both are right: only a fault passes it.
+  double odometry_gate_chi2 = 50.0;
   RansacParams object_ransac{100, 0.3, 4, 17};  // per-object 3D-3D RANSAC between consecutive frames
   // An object's fitted motion may differ from its previous one by at most this acceleration (at its
   // points' centroid, in m/s^2 over the frame interval); beyond it, the fit comes from bad tracks (an

@@ -189,13 +189,20 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
   }
   std::vector<uint8_t> keep(kept.size(), 1);
   std::optional<SE3> T_prev_curr;
+  bool odometry_rejected = false;
   if (frame.odometry) T_prev_curr = frame.odometry->T_prev_curr;
   if (const auto pnp = EstimateCameraMotionPnp(static_prev, static_uv, camera_, params_.pnp, T_prev_curr)) {
     stats.pnp_inliers = static_cast<int>(pnp->inliers.size());
     stats.camera_from_pnp = true;
     for (size_t j : static_index) keep[j] = 0;
     for (int j : pnp->inliers) keep[static_index[j]] = 1;
-    T_prev_curr = frame.odometry ? FuseCameraMotion(*pnp, *frame.odometry) : pnp->T_prev_curr;
+    // Odometry that contradicts a well-supported visual motion (a wheel slip, a corrupt record) is not
+    // fused here, and not handed to the back-end as a factor: the static points hold the camera.
+    if (frame.odometry && OdometryDisagreementChi2(*pnp, *frame.odometry) > params_.odometry_gate_chi2) {
+      stats.odometry_rejected = true;
+      odometry_rejected = true;
+    }
+    T_prev_curr = frame.odometry && !odometry_rejected ? FuseCameraMotion(*pnp, *frame.odometry) : pnp->T_prev_curr;
   }
 
   // 4b. Each object's motion (in the previous camera frame) by 3D-3D RANSAC; drop its outliers.
@@ -242,7 +249,7 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
   out.frame_index = frame.frame_index;
   out.t_ns = frame.t_ns;
   if (prev_frame_index_) {
-    out.odometry = frame.odometry;
+    if (!odometry_rejected) out.odometry = frame.odometry;
     out.camera_motion_guess = T_prev_curr;
   }
   std::map<int, ObjectObservation> objects;

@@ -33,6 +33,7 @@ struct FrontendFrameStats {
   int objects = 0;            // objects in the measurement
   int pnp_inliers = 0;        // 0 when PnP failed or did not run
   bool camera_from_pnp = false;
+  bool odometry_rejected = false;  // the odometry contradicted the PnP motion (frontend.odometry_gate_chi2)
   double median_fb_error_px = 0.0;  // over the points the flow kept
   std::vector<int> mask_labels;     // instance labels at least min_mask_area_pct of the image
   struct ObjectCounts {

@@ -123,6 +123,7 @@ const Schema& GetSchema() {
          Field<double>([](RunConfig& c) -> double& { return c.frontend.association.min_overlap; })},
         {"pnp_reprojection_px", Field<double>([](RunConfig& c) -> double& { return c.frontend.pnp.reprojection_px; })},
         {"pnp_min_inliers", Field<int>([](RunConfig& c) -> int& { return c.frontend.pnp.min_inliers; })},
+        {"odometry_gate_chi2", Field<double>([](RunConfig& c) -> double& { return c.frontend.odometry_gate_chi2; })},
         {"object_max_acceleration_mps2",
          Field<double>([](RunConfig& c) -> double& { return c.frontend.object_max_acceleration_mps2; })},
         {"object_ransac_threshold_m",

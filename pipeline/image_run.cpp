@@ -26,18 +26,20 @@ class FrontendRecorder {
     for (int label : st.mask_labels) visible_.insert({k, label});
     if (frame_log_) {
       if (k == 0)
-        *frame_log_ << "frame,object_id,flowed,tracked,added,measured,motion_rejected,pnp_inliers,median_fb_px\n";
+        *frame_log_ << "frame,object_id,flowed,tracked,added,measured,motion_rejected,pnp_inliers,median_fb_px,"
+                       "odometry_rejected\n";
       *frame_log_ << k << ",0,-1," << st.static_tracked << ',' << st.static_new << ",1,0," << st.pnp_inliers << ','
-                  << st.median_fb_error_px << '\n';
+                  << st.median_fb_error_px << ',' << (st.odometry_rejected ? 1 : 0) << '\n';
       for (const auto& [id, c] : st.object_counts)
         *frame_log_ << k << ',' << id << ',' << c.flowed << ',' << c.tracked << ',' << c.added << ','
                     << (c.measured ? 1 : 0) << ',' << (c.motion_rejected ? 1 : 0) << ',' << st.pnp_inliers << ','
-                    << st.median_fb_error_px << '\n';
+                    << st.median_fb_error_px << ',' << (st.odometry_rejected ? 1 : 0) << '\n';
       frame_log_->flush();  // whole rows only, should the run be stopped
     }
     s_.mean_static_tracks += st.static_tracked + st.static_new;
     s_.mean_object_points += st.object_points_tracked + st.object_points_new;
     s_.mean_pnp_inliers += st.pnp_inliers;
+    s_.odometry_rejected += st.odometry_rejected ? 1 : 0;
     if (k > 0) fb_medians_.push_back(st.median_fb_error_px);
     if (progress_ && ((k + 1) % std::max(1, frames_ / 10) == 0 || k + 1 == frames_)) {
       const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();

@@ -21,13 +21,14 @@ struct ImageRunSummary {
   double mean_static_tracks = 0.0;     // static points per frame (tracked + new)
   double mean_object_points = 0.0;
   double mean_pnp_inliers = 0.0;
+  int odometry_rejected = 0;           // frames whose odometry contradicted the PnP motion (dropped)
   double median_fb_error_px = 0.0;     // median over frames of each frame's median
   bool has_ground_truth = false;
 };
 
 // max_frames <= 0: the whole dataset. Throws std::runtime_error naming the frame and file on bad input.
 // `frame_log`, when given, receives one CSV row per frame and object (object_id 0: the background, flowed -1):
-// frame,object_id,flowed,tracked,added,measured,motion_rejected,pnp_inliers,median_fb_px
+// frame,object_id,flowed,tracked,added,measured,motion_rejected,pnp_inliers,median_fb_px,odometry_rejected
 // (see FrontendFrameStats::ObjectCounts).
 // With `ours`, the stages run in parallel (pipeline/staged_pipeline.h): this thread reads and decodes the
 // files, the front-end and ours' back-end each run on their own thread, and `ours` receives ours' result

@@ -103,6 +103,32 @@ TEST(ImageFrontend, TracksTheWallAndTheMovingBoxWithTheirTrueMotions) {
   }
 }
 
+TEST(ImageFrontend, OdometryThatContradictsThePnpMotionIsDroppedAndCounted) {
+  ImageFrontend frontend(Params(), Camera());
+  frontend.process(MakeFrame(0));
+  const SE3 step(Eigen::Quaterniond::Identity(), Vec3(kCameraStepM, 0.0, 0.0));
+  // Right odometry (within its sigmas): fused, handed on.
+  ImageFrame good = MakeFrame(1);
+  good.odometry = OdometryMeasurement{step * SE3::Exp((Vec6() << 0.01, 0.0, 0.0, 0.0, 0.0, 0.0).finished()),
+                                      (Vec6() << 0.03, 0.03, 0.03, 0.005, 0.005, 0.005).finished()};
+  const FrameMeasurement a = frontend.process(good);
+  EXPECT_FALSE(frontend.lastStats().odometry_rejected);
+  ASSERT_TRUE(a.odometry);
+  // A corrupt record, 60 m forward: dropped for this frame; the camera motion comes from PnP alone.
+  ImageFrame bad = MakeFrame(2);
+  bad.odometry = OdometryMeasurement{SE3(Eigen::Quaterniond::Identity(), Vec3(kCameraStepM, 0.0, 60.0)),
+                                     (Vec6() << 0.03, 0.03, 0.03, 0.005, 0.005, 0.005).finished()};
+  const FrameMeasurement b = frontend.process(bad);
+  EXPECT_TRUE(frontend.lastStats().odometry_rejected);
+  EXPECT_FALSE(b.odometry);
+  ASSERT_TRUE(b.camera_motion_guess);
+  EXPECT_LT((b.camera_motion_guess->translation() - step.translation()).norm(), 0.01);
+  // The gate is a setting.
+  FrontendParams params = Params();
+  params.odometry_gate_chi2 = 0.0;
+  EXPECT_THROW(ImageFrontend(params, Camera()), std::invalid_argument);
+}
+
 TEST(ImageFrontend, FollowsTheBoxWhenTheSegmenterRelabelsItEveryFrame) {
   FrontendParams params = Params();
   params.association.mask_ids_tracked = false;
