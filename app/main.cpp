@@ -98,11 +98,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   render_cmd->add_option("--scale", render.scale, "Image size relative to 1242x375, intrinsics scaled alike")
       ->capture_default_str();
-  render_cmd->add_option("--image-noise", render.image_noise, "Colour noise sigma, grey levels")->capture_default_str();
-  render_cmd->add_option("--depth-noise", render.depth_noise_m, "Depth noise sigma at zero depth, metres")
+  render_cmd->add_option("--image-noise", render.image_noise, "Colour noise sigma, grey levels (0 to 255)")->capture_default_str();
+  render_cmd->add_option("--depth-noise", render.depth_noise_m, "Depth noise sigma at zero depth, metres (0 to 10)")
       ->capture_default_str();
   render_cmd->add_option("--depth-noise-per-m2", render.depth_noise_per_m2,
-                         "Depth noise sigma added per square metre of depth")
+                         "Depth noise sigma added per square metre of depth (0 to 1)")
       ->capture_default_str();
   render_cmd->add_option("--seed", render.seed, "Seed of the noise")->capture_default_str();
   render_cmd->add_option("--out", render.out_dir, "Output directory")->capture_default_str();

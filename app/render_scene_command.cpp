@@ -21,8 +21,13 @@ int RunRenderSceneCommand(const RenderSceneOptions& options, std::ostream& out, 
     if (!(options.scale > 0.05 && options.scale <= 4.0)) throw std::invalid_argument("--scale must be in (0.05, 4]");
     if (options.frames < 0) throw std::invalid_argument("--frames must be >= 0");
     const SensorNoise noise{options.image_noise, options.depth_noise_m, options.depth_noise_per_m2};
-    if (noise.image_sigma < 0.0 || noise.depth_sigma_m < 0.0 || noise.depth_sigma_per_m2 < 0.0)
-      throw std::invalid_argument("noise sigmas must be >= 0");
+    // NaN fails every comparison: the bounds are written so that it fails them.
+    if (!(noise.image_sigma >= 0.0 && noise.image_sigma <= 255.0))
+      throw std::invalid_argument("--image-noise must be in [0, 255] grey levels");
+    if (!(noise.depth_sigma_m >= 0.0 && noise.depth_sigma_m <= 10.0))
+      throw std::invalid_argument("--depth-noise must be in [0, 10] m");
+    if (!(noise.depth_sigma_per_m2 >= 0.0 && noise.depth_sigma_per_m2 <= 1.0))
+      throw std::invalid_argument("--depth-noise-per-m2 must be in [0, 1] m per m^2");
     if (options.kitti_dir.empty() == options.scenario.empty())
       throw std::invalid_argument("give either --kitti DIR --seq SSSS or --scenario NAME");
     Scene scene;

@@ -21,6 +21,8 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
     if (options.frames < 0) throw std::invalid_argument("--frames must be >= 0");
     ImageDatasetOptions dataset_options = config.dataset;
     dataset_options.sequence = options.sequence;
+    // Only the precomputed flow method reads flow/*.flo: another must not fail on a file it never uses.
+    dataset_options.read_flow = config.frontend.flow.method == FlowMethod::kPrecomputed;
     const ImageDataset dataset(options.dataset_dir, dataset_options);
     if (config.frontend.flow.method == FlowMethod::kPrecomputed && !dataset.hasFlow())
       throw std::invalid_argument(options.dataset_dir + " has no flow/ folder for flow method 'precomputed'");

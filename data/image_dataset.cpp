@@ -174,6 +174,9 @@ ImageDataset::ImageDataset(const std::string& dir, const ImageDatasetOptions& op
       RequireConsecutiveFrameNumbers(images_);
       read_calib(root / "calib.txt");
       if (fs::is_directory(root / "velodyne_points")) {
+        if (!calib->has_T_cam_velo)
+          throw std::runtime_error((root / "calib.txt").string() +
+                                   ": missing Tr_velo_to_cam (LiDAR depth needs the Velodyne-to-camera transform)");
         depths_ = Matching(images_, root / "velodyne_points", ".bin", images_.size());
         depth_kind_ = DepthKind::kLidar;
         Mat4 rect = Mat4::Identity();

@@ -1,6 +1,7 @@
 #include "data/kitti_tracking.h"
 
 #include <cmath>
+#include <map>
 #include <set>
 #include <stdexcept>
 
@@ -8,6 +9,9 @@
 
 namespace dslam {
 namespace {
+// Positions farther than this (beyond the Earth's size) are corrupt records: squared in the metrics they
+// would overflow into NaN instead of failing.
+constexpr double kMaxPositionM = 1e7;
 constexpr double kEarthRadiusM = 6378137.0;
 
 Mat4 Homogeneous3x4(const std::vector<double>& v) {
@@ -68,6 +72,7 @@ KittiCalibration ReadKittiCalibration(const std::string& path) {
     } else if (key == "Tr_velo_to_cam" || key == "Tr_velo_cam") {
       need(12);
       calib.T_cam_velo = Homogeneous3x4(v);
+      calib.has_T_cam_velo = true;
       key = "Tr_velo_cam";
     } else if (key == "Tr_imu_to_velo" || key == "Tr_imu_velo") {
       need(12);
@@ -81,11 +86,19 @@ KittiCalibration ReadKittiCalibration(const std::string& path) {
   for (const char* required : {"P2", "R_rect"})
     if (!seen.count(required)) throw std::runtime_error(path + ": missing " + required);
   if (!(calib.fx() > 0.0 && calib.fy() > 0.0)) throw std::runtime_error(path + ": P2 has a non-positive focal length");
+  // A camera's focal length and principal point are pixels: beyond 1e5 they are a corrupt or foreign file.
+  constexpr double kMaxPixels = 1e5;
+  if (calib.fx() > kMaxPixels || calib.fy() > kMaxPixels || std::abs(calib.cx()) > kMaxPixels ||
+      std::abs(calib.cy()) > kMaxPixels)
+    throw std::runtime_error(path + ": P2's focal length or principal point is beyond 1e5 pixels (fx " +
+                             std::to_string(calib.fx()) + ", fy " + std::to_string(calib.fy()) + ")");
   return calib;
 }
 
 std::vector<KittiLabel> ReadKittiLabels(const std::string& path) {
   std::vector<KittiLabel> labels;
+  int last_frame = -1;
+  std::map<int, int> line_of_track;  // in the current frame: a second line for a track would replace the first
   // 17 fields, or 18 with a score (tracking results use the same format).
   ForEachRow(path, 17, 18, [&](const std::vector<std::string>& f, int line_no) {
     KittiLabel label;
@@ -95,8 +108,17 @@ std::vector<KittiLabel> ReadKittiLabels(const std::string& path) {
     std::vector<double> v;
     for (size_t i = 3; i < f.size(); ++i) v.push_back(ParseDouble(f[i], path, line_no, "label field " + std::to_string(i + 1)));
     if (label.frame < 0) throw std::runtime_error(AtLine(path, line_no, "negative frame number"));
+    if (label.frame < last_frame)
+      throw std::runtime_error(AtLine(path, line_no, "frame " + std::to_string(label.frame) + " out of order: after frame " +
+                                                         std::to_string(last_frame)));
+    if (label.frame != last_frame) line_of_track.clear();
+    last_frame = label.frame;
     if (label.type == "DontCare") return;
     if (label.track_id < 0) throw std::runtime_error(AtLine(path, line_no, "negative track id on a " + label.type));
+    if (const auto [it, is_new] = line_of_track.emplace(label.track_id, line_no); !is_new)
+      throw std::runtime_error(AtLine(path, line_no, "track " + std::to_string(label.track_id) + " labelled twice in frame " +
+                                                         std::to_string(label.frame) + " (first on line " +
+                                                         std::to_string(it->second) + ")"));
     label.h = v[7];
     label.w = v[8];
     label.l = v[9];
@@ -121,6 +143,8 @@ std::vector<SE3> ReadPoseGt(const std::string& path) {
     const Mat3 R = T.topLeftCorner<3, 3>();
     if ((R * R.transpose() - Mat3::Identity()).norm() > 1e-3 || R.determinant() < 0.0)
       throw std::runtime_error(AtLine(path, line_no, "the rotation block is not a rotation"));
+    if (T.topRightCorner<3, 1>().norm() > kMaxPositionM)
+      throw std::runtime_error(AtLine(path, line_no, "the position is more than 1e7 m from the origin"));
     poses.push_back(SE3::FromMatrix(T));
   });
   if (poses.empty()) throw std::runtime_error(path + ": no poses");
@@ -138,6 +162,8 @@ std::vector<ObjectPoseRow> ReadObjectPoses(const std::string& path) {
                                     ParseDouble(f[8], path, line_no, "Z"));
     row.rotation_y = ParseDouble(f[9], path, line_no, "rotation_y");
     if (row.frame < 0 || row.object_id < 0) throw std::runtime_error(AtLine(path, line_no, "negative frame or object id"));
+    if (row.bottom_centre_camera.norm() > kMaxPositionM)
+      throw std::runtime_error(AtLine(path, line_no, "the position is more than 1e7 m from the camera"));
     rows.push_back(row);
   });
   return rows;
@@ -147,6 +173,10 @@ std::vector<double> ReadTimes(const std::string& path) {
   std::vector<double> times;
   ForEachRow(path, 1, 1, [&](const std::vector<std::string>& f, int line_no) {
     const double t = ParseDouble(f[0], path, line_no, "timestamp");
+    // Stamps are kept as int64 nanoseconds: beyond about 292 years they would wrap to negative.
+    constexpr double kMaxSeconds = 9.2e9;
+    if (!(t >= 0.0 && t < kMaxSeconds))
+      throw std::runtime_error(AtLine(path, line_no, "timestamp " + f[0] + " s is outside [0, 9.2e9) s"));
     if (!times.empty() && t < times.back()) throw std::runtime_error(AtLine(path, line_no, "time goes backwards"));
     times.push_back(t);
   });

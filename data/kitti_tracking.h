@@ -15,6 +15,7 @@ struct KittiCalibration {
   Eigen::Matrix<double, 3, 4> P[4];                  // rectified projections of cameras 0..3
   Mat3 R_rect = Mat3::Identity();                    // R0_rect / R_rect
   Mat4 T_cam_velo = Mat4::Identity();                // Tr_velo_to_cam / Tr_velo_cam
+  bool has_T_cam_velo = false;                       // the file gave it (LiDAR depth needs it)
   Mat4 T_velo_imu = Mat4::Identity();                // Tr_imu_to_velo / Tr_imu_velo
   double fx() const { return P[2](0, 0); }
   double fy() const { return P[2](1, 1); }
@@ -47,7 +48,7 @@ struct ObjectPoseRow {
 };
 // object_pose.txt: "frame object_id x1 y1 x2 y2 X Y Z rotation_y", tab or space separated.
 std::vector<ObjectPoseRow> ReadObjectPoses(const std::string& path);
-// times.txt: one timestamp (s) per line, non-decreasing.
+// times.txt: one timestamp (s) per line, non-decreasing, in [0, 9.2e9) (int64 nanoseconds).
 std::vector<double> ReadTimes(const std::string& path);
 // object_category.txt: "object_id CATEGORY".
 std::map<int, std::string> ReadObjectCategories(const std::string& path);

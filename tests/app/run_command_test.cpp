@@ -5,6 +5,8 @@
 #include <sys/wait.h>
 
 #include <filesystem>
+#include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -118,6 +120,37 @@ TEST(RunCommand, BadInputGivesOneLineAndExitStatus2) {
   err.str("");
   EXPECT_EQ(RunRunCommand(options, out, err), 2);
   EXPECT_NE(err.str().find("has no flow/ folder"), std::string::npos) << err.str();
+
+  // A flow method other than precomputed never reads flow/*.flo, so a corrupt one does not stop it.
+  const std::string with_flow = test::TempDir("run_corrupt_flow");
+  fs::copy(CityDataset(), with_flow, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  fs::create_directories(with_flow + "/flow");
+  for (int k = 0; k < 25; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "/flow/%06d.flo", k);
+    std::ofstream(with_flow + name) << "not a flow file";
+  }
+  options.dataset_dir = with_flow;
+  options.flow = "lk";
+  options.frames = 3;
+  options.no_figures = true;
+  err.str("");
+  EXPECT_EQ(RunRunCommand(options, out, err), 0) << err.str();
+  options.flow = "precomputed";
+  EXPECT_EQ(RunRunCommand(options, out, err), 2);
+  EXPECT_NE(err.str().find(".flo"), std::string::npos) << err.str();
+
+  // Render noise out of range, or NaN, is an error rather than black images or no noise.
+  for (double bad : {1e30, std::nan(""), -1.0}) {
+    RenderSceneOptions render;
+    render.scenario = "city";
+    render.frames = 2;
+    render.image_noise = bad;
+    render.out_dir = test::TempPath("render_bad_noise");
+    std::ostringstream rout, rerr;
+    EXPECT_EQ(RunRenderSceneCommand(render, rout, rerr), 2) << bad;
+    EXPECT_NE(rerr.str().find("--image-noise must be in [0, 255]"), std::string::npos) << rerr.str();
+  }
 
   const std::string bin = DSLAM_BINARY;
   for (const char* args : {"run", "run --dataset /nonexistent", "run --dataset . --flow farneback",

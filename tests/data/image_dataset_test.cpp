@@ -158,6 +158,13 @@ TEST(ImageDataset, KittiRawTakesDepthFromTheLidarAndNamesATruncatedScan) {
   EXPECT_FLOAT_EQ(f.depth_m.at<float>(26, 34), 8.0f);  // spread by lidar_fill_radius_px = 2
   EXPECT_EQ(cv::countNonZero(f.depth_m), 25);
   EXPECT_NE(ErrorOf([&] { data.read(1); }).find("not a whole number of 16-byte"), std::string::npos);
+
+  // Without Tr_velo_to_cam every LiDAR point would land nowhere: zero depth and a run that says nothing.
+  std::ofstream(dir + "/calib.txt") << "P2: 50 0 32 0 0 50 24 0 0 0 1 0\nR0_rect: 1 0 0 0 1 0 0 0 1\n";
+  EXPECT_NE(ErrorOf([&] { ImageDataset(dir, {}); }).find(dir + "/calib.txt: missing Tr_velo_to_cam"), std::string::npos);
+  // Absurd intrinsics are a corrupt file.
+  std::ofstream(dir + "/calib.txt") << "P2: 1e300 0 32 0 0 50 24 0 0 0 1 0\nR0_rect: 1 0 0 0 1 0 0 0 1\n";
+  EXPECT_NE(ErrorOf([&] { ImageDataset(dir, {}); }).find("beyond 1e5 pixels"), std::string::npos);
 }
 
 }  // namespace

@@ -62,13 +62,30 @@ TEST(KittiLabels, MalformedInputNamesFileAndLine) {
   const std::string path = (dir / "l.txt").string();
   std::ofstream(path) << good << "\n0 1 Car 0 0 -1.5 10 10 50 50 1.5 1.6\n";
   ExpectErrorAt([&] { ReadKittiLabels(path); }, path + ":2: expected 17-18 fields");
-  std::ofstream(path) << good << "\n" << good << "\n0 1 Car 0 0 -1.5 10 10 50 50 1.5 abc 3.9 2.0 1.7 15.0 -1.57\n";
+  const std::string other = "0 2 Car 0 0 -1.5 10 10 50 50 1.5 1.6 3.9 2.0 1.7 15.0 -1.57";
+  std::ofstream(path) << good << "\n" << other << "\n0 1 Car 0 0 -1.5 10 10 50 50 1.5 abc 3.9 2.0 1.7 15.0 -1.57\n";
   ExpectErrorAt([&] { ReadKittiLabels(path); }, path + ":3: label field 12 'abc' is not a finite number");
   std::ofstream(path) << "0 1 Car 0 0 -1.5 10 10 50 50 1.5 -1.6 3.9 2.0 1.7 15.0 -1.57\n";
   ExpectErrorAt([&] { ReadKittiLabels(path); }, path + ":1: object size h w l must be positive");
   std::ofstream(path) << "0 1 Car 0 0 -1.5 10 10 50 50 1.5 nan 3.9 2.0 1.7 15.0 -1.57\n";
   ExpectErrorAt([&] { ReadKittiLabels(path); }, path + ":1:");
   ExpectErrorAt([&] { ReadKittiLabels((dir / "missing.txt").string()); }, "cannot open");
+  // Stamps that would overflow int64 nanoseconds into negative ones.
+  const std::string times = (dir / "times.txt").string();
+  std::ofstream(times) << "0.0\n1e10\n";
+  ExpectErrorAt([&] { ReadTimes(times); }, times + ":2: timestamp 1e10 s is outside [0, 9.2e9) s");
+  std::ofstream(times) << "-1\n";
+  ExpectErrorAt([&] { ReadTimes(times); }, times + ":1:");
+  std::ofstream(times) << "0.0\n0.1\n";
+  EXPECT_EQ(ReadTimes(times).size(), 2u);
+  // A track labelled twice in a frame would silently replace its first box; frames must not go back.
+  std::ofstream(path) << good << "\n" << other << "\n" << good << "\n";
+  ExpectErrorAt([&] { ReadKittiLabels(path); }, path + ":3: track 1 labelled twice in frame 0 (first on line 1)");
+  std::ofstream(path) << "1 1 Car 0 0 -1.5 10 10 50 50 1.5 1.6 3.9 2.0 1.7 15.0 -1.57\n" << good << "\n";
+  ExpectErrorAt([&] { ReadKittiLabels(path); }, path + ":2: frame 0 out of order: after frame 1");
+  // The same track in consecutive frames is what labels are.
+  std::ofstream(path) << good << "\n1 1 Car 0 0 -1.5 10 10 50 50 1.5 1.6 3.9 2.0 1.7 15.0 -1.57\n";
+  EXPECT_EQ(ReadKittiLabels(path).size(), 2u);
   fs::remove_all(dir);
 }
 
@@ -96,12 +113,17 @@ TEST(VdoFiles, MalformedInputNamesFileAndLine) {
   ExpectErrorAt([&] { ReadPoseGt(pose); }, pose + ":2: frame 2 out of order");
   std::ofstream(pose) << "0 2 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n";
   ExpectErrorAt([&] { ReadPoseGt(pose); }, pose + ":1: the rotation block is not a rotation");
+  // A 1e300 m position gave NaN metrics and exit 0.
+  std::ofstream(pose) << "0 1 0 0 1e300 0 1 0 0 0 0 1 0 0 0 0 1\n";
+  ExpectErrorAt([&] { ReadPoseGt(pose); }, pose + ":1: the position is more than 1e7 m from the origin");
   const std::string times = (dir / "times.txt").string();
   std::ofstream(times) << "0\n0.1\n0.05\n";
   ExpectErrorAt([&] { ReadTimes(times); }, times + ":3: time goes backwards");
   const std::string obj = (dir / "object_pose.txt").string();
   std::ofstream(obj) << "0\t1\t1\t2\t3\t4\t1.0\t1.6\n";
   ExpectErrorAt([&] { ReadObjectPoses(obj); }, obj + ":1: expected 10 fields, found 8");
+  std::ofstream(obj) << "0 1 1 2 3 4 1.0 1.6 1e300 0.1\n";
+  ExpectErrorAt([&] { ReadObjectPoses(obj); }, obj + ":1: the position is more than 1e7 m from the camera");
   fs::remove_all(dir);
 }
 
