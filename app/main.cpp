@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
                       "for city)");
   sim_cmd->add_option("--schedule", sim.schedule, "Solver schedule: batch (default) or window:W with W >= 2");
   sim_cmd->add_option("--sigma", sim.sigma_m, "Point measurement noise sigma per axis, metres")->capture_default_str();
-  sim_cmd->add_option("--frames", sim.frames, "Number of frames (0: the scenario's default, 100 / 200)")
+  sim_cmd->add_option("--frames", sim.frames, "Number of frames (0: the scenario's default, 100 / 200; at most 100000)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   sim_cmd->add_option("--config", sim.config_path, "YAML run configuration (see config/default.yaml)")

@@ -21,6 +21,15 @@ FlowField ReadFlo(const std::string& path) {
   if (magic != 202021.25f) throw std::runtime_error(path + ": not a .flo file (bad magic number)");
   if (w <= 0 || h <= 0 || w > 100000 || h > 100000)
     throw std::runtime_error(path + ": implausible size " + std::to_string(w) + "x" + std::to_string(h));
+  // The header's size must match the file's before anything is allocated for it.
+  const size_t expected_bytes = static_cast<size_t>(w) * static_cast<size_t>(h) * 2 * sizeof(float);
+  in.seekg(0, std::ios::end);
+  const auto file_bytes = static_cast<size_t>(std::max<std::streamoff>(0, in.tellg()));
+  in.seekg(12, std::ios::beg);
+  if (file_bytes < 12 + expected_bytes)
+    throw std::runtime_error(path + ": truncated: its header says " + std::to_string(w) + "x" + std::to_string(h) +
+                             ", " + std::to_string(expected_bytes) + " bytes of flow, but the file has " +
+                             std::to_string(file_bytes > 12 ? file_bytes - 12 : 0) + " after the header");
   FlowField flow;
   flow.width = w;
   flow.height = h;

@@ -80,7 +80,8 @@ cv::Mat ReadImage(const std::string& path, int flags) {
 void ImageDatasetOptions::validate() const {
   if (depth_encoding != "depth_mm" && depth_encoding != "disparity_x256")
     throw std::invalid_argument("unknown depth encoding '" + depth_encoding + "' (expected depth_mm or disparity_x256)");
-  if (lidar_fill_radius_px < 0) throw std::invalid_argument("lidar_fill_radius_px must be >= 0");
+  if (lidar_fill_radius_px < 0 || lidar_fill_radius_px > 50)
+    throw std::invalid_argument("dataset lidar_fill_radius_px must be in 0..50");
   if (!(frame_rate_hz > 0.0)) throw std::invalid_argument("frame rate must be positive");
   stereo.validate();
 }

@@ -25,7 +25,7 @@ FlowMethod ParseFlowMethod(const std::string& name) {
 
 void FlowParams::validate() const {
   if (!(fb_threshold_px > 0.0)) throw std::invalid_argument("flow fb_threshold_px must be positive");
-  if (lk_window_px < 5) throw std::invalid_argument("flow lk_window_px must be >= 5");
+  if (lk_window_px < 5 || lk_window_px > 201) throw std::invalid_argument("frontend lk_window_px must be in 5..201");
   if (lk_pyramid_levels < 0 || lk_pyramid_levels > 8) throw std::invalid_argument("flow lk_pyramid_levels must be in 0..8");
 }
 

@@ -161,6 +161,10 @@ std::string ScenarioDefaultMotionMode(const std::string& name) { return name == 
 
 Sequence MakeScenario(const std::string& name, const ScenarioOptions& options) {
   if (options.num_frames < 0) throw std::invalid_argument("number of frames must be >= 0");
+  // A simulated run keeps every frame for the evaluation at the end (about 110 KB a frame on the city).
+  if (options.num_frames > kMaxScenarioFrames)
+    throw std::invalid_argument("number of frames must be at most " + std::to_string(kMaxScenarioFrames) +
+                                " (a simulated run keeps every frame, about 110 KB each, for its evaluation)");
   SensorModel sensor;
   if (name == "paper") {
     return SimulateSensor(PaperWorld(options.num_frames > 0 ? options.num_frames : 100), sensor, options.noise,

@@ -15,6 +15,8 @@
 
 namespace dslam {
 
+constexpr int kMaxScenarioFrames = 100000;
+
 struct ScenarioOptions {
   int num_frames = 0;  // 0: the scenario's default length
   uint64_t seed = 1;

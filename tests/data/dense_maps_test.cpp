@@ -53,6 +53,23 @@ TEST(ReadFlo, RoundTripAndBadFiles) {
   EXPECT_EQ(f.v(0, 0), -2.0f);
   std::filesystem::resize_file(path, 12 + 8);  // truncated data
   EXPECT_THROW(ReadFlo(path), std::runtime_error);
+  {
+    // A header claiming 100000x100000 (80 GB of flow) on a small file: an error naming it, before any
+    // allocation (it was a bare std::bad_alloc).
+    std::ofstream out(path, std::ios::binary);
+    const float magic = 202021.25f;
+    const int32_t huge = 100000;
+    out.write(reinterpret_cast<const char*>(&magic), 4);
+    out.write(reinterpret_cast<const char*>(&huge), 4);
+    out.write(reinterpret_cast<const char*>(&huge), 4);
+    out.write(reinterpret_cast<const char*>(&magic), 4);
+  }
+  try {
+    ReadFlo(path);
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ": truncated: its header says 100000x100000"), std::string::npos) << e.what();
+  }
   std::ofstream(path) << "not a flow file at all";
   EXPECT_THROW(ReadFlo(path), std::runtime_error);
   std::filesystem::remove(path);

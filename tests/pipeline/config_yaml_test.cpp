@@ -65,6 +65,10 @@ TEST(ConfigYaml, BadInputIsAClearError) {
   ExpectError("noise: [1, 2\n", "not valid YAML");
   ExpectError("backend:\n  linear_solver: qr\n", "unknown linear solver 'qr'");
   ExpectError("backend:\n  object_modes:\n    x: constant\n", "object_modes");
+  // Sizes that would make OpenCV fail to allocate are errors naming the key, up front.
+  ExpectError("frontend:\n  lk_window_px: 100000\n", "lk_window_px must be in 5..201");
+  ExpectError("dataset:\n  lidar_fill_radius_px: 1000000\n", "lidar_fill_radius_px must be in 0..50");
+  ExpectError("frontend:\n  odometry_gate_chi2: -1\n", "odometry_gate_chi2");
 }
 
 TEST(ConfigYaml, MissingFileIsAnError) {

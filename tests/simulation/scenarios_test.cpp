@@ -158,6 +158,14 @@ TEST(Scenarios, BadOptionsAreErrors) {
   opt = ScenarioOptions{};
   opt.num_frames = 1;
   EXPECT_THROW(MakeScenario("paper", opt), std::invalid_argument);
+  // Up front, not a bare std::bad_alloc after a while.
+  opt.num_frames = 2'000'000'000;
+  try {
+    MakeScenario("city", opt);
+    ADD_FAILURE() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("at most 100000"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
