@@ -62,7 +62,8 @@ RateResult RunAtRate(const dslam::ImageDataset& data, int frames, double rate_hz
     f.t_ns = static_cast<int64_t>(i) * 100'000'000;
     if (f.odometry) pose = pose * f.odometry->T_prev_curr;
     sent_at[f.t_ns] = Clock::now();
-    sensors.publish(f, pose, f.odometry ? f.odometry->sigma : dslam::Vec6::Constant(0.01), data.hasOdometry());
+    // Stamps 0.1 s apart: the increment's sigma per second is ten times its sigma.
+    sensors.publish(f, pose, f.odometry ? dslam::Vec6(f.odometry->sigma * 10.0) : dslam::Vec6::Zero(), data.hasOdometry());
     next += period;
     std::this_thread::sleep_until(next);
   }

@@ -44,6 +44,7 @@ class ImageDataset {
   const std::string& name() const { return name_; }
   int size() const { return static_cast<int>(images_.size()); }
   const PinholeCamera& camera() const { return camera_; }
+  int64_t stampNs(int k) const { return t_ns_.at(static_cast<size_t>(k)); }  // frame k's time stamp
   double frameRateHz() const { return options_.frame_rate_hz; }
   bool hasMasks() const { return mask_kind_ != MaskKind::kNone; }
   bool hasOdometry() const { return !odometry_.empty(); }

@@ -34,12 +34,15 @@ int PublishDataset(const ImageDataset& dataset, const PublishOptions& options, s
   int published = 0;
   for (int k = options.start_frame; k < end && !(stop && *stop); ++k) {
     const ImageFrame frame = dataset.read(k);
-    Vec6 sigma = Vec6::Constant(0.01);  // the first frame's pose starts the chain; its sigma is not used
+    // The increment's sigmas, per second of the time it spans: a velocity's uncertainty, which the
+    // receiver multiplies by the time between the frames it pairs.
+    Vec6 twist_sigma_per_s = Vec6::Zero();
     if (frame.odometry) {
       T_odom_camera = T_odom_camera * frame.odometry->T_prev_curr;
-      sigma = frame.odometry->sigma;
+      const double dt_s = static_cast<double>(frame.t_ns - dataset.stampNs(k - 1)) * 1e-9;
+      if (dt_s > 0.0) twist_sigma_per_s = frame.odometry->sigma / dt_s;
     }
-    sensors.publish(frame, T_odom_camera, sigma, dataset.hasOdometry());
+    sensors.publish(frame, T_odom_camera, twist_sigma_per_s, dataset.hasOdometry());
     ++published;
     if ((k + 1) % 10 == 0 || k + 1 == end) log << "  published frame " << k + 1 << "/" << end << std::endl;
     next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period);

@@ -9,6 +9,8 @@ void AssemblerParams::validate() const {
   if (timeout_ns <= 0) throw std::invalid_argument("assembler timeout must be positive");
   if (silence_timeout_ns <= 0) throw std::invalid_argument("assembler silence timeout must be positive");
   if (max_pending < 1) throw std::invalid_argument("assembler max_pending must be >= 1");
+  if (!default_increment_sigma.allFinite() || (default_increment_sigma.array() <= 0.0).any())
+    throw std::invalid_argument("assembler default odometry increment sigmas must be positive");
 }
 
 int64_t SteadyClockNs() {
@@ -62,7 +64,7 @@ void FrameAssembler::addMask(int64_t t_ns, const cv::Mat& instance_ids) {
 }
 void FrameAssembler::addOdometry(int64_t t_ns, const StampedPose& pose) {
   if (!pose.T_odom_camera.translation().allFinite() || !pose.T_odom_camera.rotation().coeffs().allFinite() ||
-      !pose.sigma.allFinite() || (pose.sigma.array() <= 0.0).any()) {
+      (pose.twist_sigma_per_s && (!pose.twist_sigma_per_s->allFinite() || (pose.twist_sigma_per_s->array() <= 0.0).any()))) {
     ++counters_.parts_received;
     reject("odometry at " + std::to_string(t_ns) + " ns is not finite or has non-positive sigmas");
     return;
@@ -98,10 +100,13 @@ std::vector<ImageFrame> FrameAssembler::takeReady() {
       if (last_released_pose_) {
         OdometryMeasurement odometry;
         odometry.T_prev_curr = last_released_pose_->T_odom_camera.inverse() * it->second.pose->T_odom_camera;
-        odometry.sigma = it->second.pose->sigma;
+        const double dt_s = static_cast<double>(it->first - last_released_pose_ns_) * 1e-9;
+        const auto& twist = it->second.pose->twist_sigma_per_s;
+        odometry.sigma = twist && dt_s > 0.0 ? Vec6(*twist * dt_s) : params_.default_increment_sigma;
         frame.odometry = odometry;
       }
       last_released_pose_ = it->second.pose;
+      last_released_pose_ns_ = it->first;
     }
     last_released_ns_ = it->first;
     pending_.erase(it);

@@ -29,6 +29,8 @@ struct AssemblerParams {
   // Longer than a sensor's gap between frames, so that only a stopped stream triggers it.
   int64_t silence_timeout_ns = 2'000'000'000;
   int max_pending = 8;
+  // Sigma of an odometry increment whose message gave no twist covariance ([m x3; rad x3]).
+  Vec6 default_increment_sigma = Vec6::Constant(0.01);
   void validate() const;
 };
 
@@ -44,7 +46,11 @@ struct AssemblerCounters {
 // A vehicle pose at a stamp (odometry input: the pose of the vehicle's camera in its odometry frame).
 struct StampedPose {
   SE3 T_odom_camera;
-  Vec6 sigma = Vec6::Constant(0.01);  // of the increment derived from consecutive poses
+  // The odometry's velocity uncertainty per second ([x y z roll pitch yaw], from the message's twist
+  // covariance): the increment between two released frames gets this times the time between them.
+  // Absent: AssemblerParams::default_increment_sigma. (The pose covariance grows along a drive and says
+  // nothing about one increment.)
+  std::optional<Vec6> twist_sigma_per_s;
 };
 
 // Monotonic wall time in ns; injectable so that tests control it.
@@ -83,6 +89,7 @@ class FrameAssembler {
   std::map<int64_t, Pending> pending_;
   std::optional<int64_t> last_released_ns_;
   std::optional<StampedPose> last_released_pose_;
+  int64_t last_released_pose_ns_ = 0;
   int64_t newest_ns_ = 0;
   int next_frame_index_ = 0;
   AssemblerCounters counters_;

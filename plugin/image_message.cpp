@@ -110,8 +110,7 @@ sensor_msgs::msg::Image EncodeImage(const cv::Mat& image, ImageRole role, int64_
   return msg;
 }
 
-std::optional<StampedPose> DecodeOdometry(const nav_msgs::msg::Odometry& msg, const Vec6& default_sigma,
-                                          std::string* error) {
+std::optional<StampedPose> DecodeOdometry(const nav_msgs::msg::Odometry& msg, std::string* error) {
   const auto& p = msg.pose().pose().position();
   const auto& q = msg.pose().pose().orientation();
   const Eigen::Quaterniond quaternion(q.w(), q.x(), q.y(), q.z());
@@ -127,19 +126,25 @@ std::optional<StampedPose> DecodeOdometry(const nav_msgs::msg::Odometry& msg, co
   }
   StampedPose pose;
   pose.T_odom_camera = SE3(quaternion, t);
+  // The increment's noise comes from the velocity's: the pose covariance is the drift accumulated since
+  // the start of the drive, not the uncertainty of one step.
+  Vec6 twist_sigma;
+  int given = 0;
   for (int i = 0; i < 6; ++i) {
-    const double variance = msg.pose().covariance()[static_cast<size_t>(7 * i)];
+    const double variance = msg.twist().covariance()[static_cast<size_t>(7 * i)];
     if (!std::isfinite(variance) || variance < 0.0) {
-      *error = what + ": covariance is not finite and non-negative";
+      *error = what + ": twist covariance is not finite and non-negative";
       return std::nullopt;
     }
-    pose.sigma[i] = variance > 0.0 ? std::sqrt(variance) : default_sigma[i];
+    twist_sigma[i] = std::sqrt(variance);
+    given += variance > 0.0;
   }
+  if (given == 6) pose.twist_sigma_per_s = twist_sigma;  // else the configured increment sigma
   return pose;
 }
 
 nav_msgs::msg::Odometry EncodeOdometry(const SE3& T_world_camera, int64_t t_ns, const std::string& frame_id,
-                                       const std::string& child_frame_id, const Vec6& sigma) {
+                                       const std::string& child_frame_id, const Vec6& twist_sigma_per_s) {
   nav_msgs::msg::Odometry msg;
   msg.header().stamp(NsToStamp(t_ns));
   msg.header().frame_id(frame_id);
@@ -153,7 +158,8 @@ nav_msgs::msg::Odometry EncodeOdometry(const SE3& T_world_camera, int64_t t_ns, 
   msg.pose().pose().orientation().y(q.y());
   msg.pose().pose().orientation().z(q.z());
   msg.pose().pose().orientation().w(q.w());
-  for (int i = 0; i < 6; ++i) msg.pose().covariance()[static_cast<size_t>(7 * i)] = sigma[i] * sigma[i];
+  for (int i = 0; i < 6; ++i)
+    msg.twist().covariance()[static_cast<size_t>(7 * i)] = twist_sigma_per_s[i] * twist_sigma_per_s[i];
   return msg;
 }
 

@@ -33,11 +33,13 @@ DecodedImage DecodeImage(const sensor_msgs::msg::Image& msg, ImageRole role);
 // The inverse: bgr8 / mono8 colour, 32FC1 depth (metres), 16UC1 mask.
 sensor_msgs::msg::Image EncodeImage(const cv::Mat& image, ImageRole role, int64_t t_ns, const std::string& frame_id);
 
-// nav_msgs/Odometry -> a stamped camera pose; the increment's sigmas come from the pose covariance's
-// diagonal (ROS order x y z roll pitch yaw), or the given default where it is zero.
-std::optional<StampedPose> DecodeOdometry(const nav_msgs::msg::Odometry& msg, const Vec6& default_sigma,
-                                          std::string* error);
+// nav_msgs/Odometry -> a stamped camera pose. The increment noise comes from the twist covariance's
+// diagonal (per second, ROS order x y z roll pitch yaw; the assembler multiplies it by the time between
+// frames) when all six are given, else from the configured default; the pose covariance, which is the
+// drift accumulated over the drive, is not used.
+std::optional<StampedPose> DecodeOdometry(const nav_msgs::msg::Odometry& msg, std::string* error);
+// The inverse; `twist_sigma_per_s` goes into the twist covariance's diagonal (zero: none given).
 nav_msgs::msg::Odometry EncodeOdometry(const SE3& T_world_camera, int64_t t_ns, const std::string& frame_id,
-                                       const std::string& child_frame_id, const Vec6& sigma = Vec6::Zero());
+                                       const std::string& child_frame_id, const Vec6& twist_sigma_per_s = Vec6::Zero());
 
 }  // namespace dslam

@@ -45,7 +45,8 @@ bool SensorPublisher::waitForReaders(double timeout_s, const std::atomic<bool>* 
   }
 }
 
-void SensorPublisher::publish(const ImageFrame& frame, const SE3& T_odom_camera, const Vec6& sigma, bool with_odometry) {
+void SensorPublisher::publish(const ImageFrame& frame, const SE3& T_odom_camera, const Vec6& twist_sigma_per_s,
+                              bool with_odometry) {
   sensor_msgs::msg::Image colour = EncodeImage(frame.image, ImageRole::kColour, frame.t_ns, "camera");
   sensor_msgs::msg::Image depth = EncodeImage(frame.depth_m, ImageRole::kDepth, frame.t_ns, "camera");
   impl_->colour->write(&colour);
@@ -57,7 +58,7 @@ void SensorPublisher::publish(const ImageFrame& frame, const SE3& T_odom_camera,
     impl_->mask->write(&mask);
   }
   if (with_odometry) {
-    nav_msgs::msg::Odometry odometry = EncodeOdometry(T_odom_camera, frame.t_ns, "odom", "camera", sigma);
+    nav_msgs::msg::Odometry odometry = EncodeOdometry(T_odom_camera, frame.t_ns, "odom", "camera", twist_sigma_per_s);
     impl_->odometry->write(&odometry);
   }
 }

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "data/image_frame.h"
@@ -21,9 +22,10 @@ class SensorPublisher {
 
   // Waits until every input topic has a reader (discovery takes a moment), at most `timeout_s`.
   bool waitForReaders(double timeout_s, const std::atomic<bool>* stop = nullptr);
-  // The frame's images with its stamp; the odometry pose too when `with_odometry` (sigma: of the
-  // increment into this frame, sent as the pose covariance's diagonal).
-  void publish(const ImageFrame& frame, const SE3& T_odom_camera, const Vec6& sigma, bool with_odometry);
+  // The frame's images with its stamp; the odometry pose too when `with_odometry`, with the odometry's
+  // velocity uncertainty (per second) in the twist covariance's diagonal, as a wheel-odometry driver
+  // fills it (zero: none).
+  void publish(const ImageFrame& frame, const SE3& T_odom_camera, const Vec6& twist_sigma_per_s, bool with_odometry);
   // Lets reliable writers deliver what is queued: returns once every reliable reader has acknowledged
   // it, at most 10 s (a reader that discovers this writer late asks for it at the next heartbeat).
   void flush();

@@ -237,7 +237,7 @@ class Vehicle {
         }
       } else {
         std::string error;
-        const auto pose = DecodeOdometry(sample->odometry, Vec6::Constant(0.01), &error);
+        const auto pose = DecodeOdometry(sample->odometry, &error);
         std::lock_guard<std::mutex> lock(mutex_);
         if (pose) {
           assembler_.addOdometry(StampToNs(sample->odometry.header().stamp()), *pose);

@@ -15,6 +15,37 @@ StampedPose PoseAt(double z) {
   return p;
 }
 
+TEST(FrameAssembler, IncrementNoiseIsTheTwistSigmaTimesTheTimeBetweenFramesElseTheDefault) {
+  AssemblerParams params;
+  params.expect_odometry = true;
+  params.default_increment_sigma = Vec6::Constant(0.02);
+  FrameAssembler a(params, [] { return int64_t{0}; });
+  const cv::Mat colour(4, 6, CV_8UC3, cv::Scalar(1)), depth(4, 6, CV_32FC1, cv::Scalar(2.0f));
+  auto add = [&](int64_t t, const StampedPose& pose) {
+    a.addOdometry(t, pose);
+    a.addMask(t, kMask);
+    a.addColour(t, colour);
+    a.addDepth(t, depth);
+  };
+  StampedPose with_twist = PoseAt(1.0);
+  with_twist.twist_sigma_per_s = (Vec6() << 0.5, 0.5, 1.0, 0.1, 0.1, 0.2).finished();
+  add(0, PoseAt(0.0));
+  add(200'000'000, with_twist);  // 0.2 s later
+  add(300'000'000, PoseAt(2.0));
+  const auto frames = a.takeReady();
+  ASSERT_EQ(frames.size(), 3u);
+  EXPECT_FALSE(frames[0].odometry);
+  ASSERT_TRUE(frames[1].odometry);
+  EXPECT_TRUE(frames[1].odometry->sigma.isApprox(0.2 * *with_twist.twist_sigma_per_s, 1e-12));
+  ASSERT_TRUE(frames[2].odometry);
+  EXPECT_TRUE(frames[2].odometry->sigma.isApprox(Vec6::Constant(0.02)));
+  // A non-positive twist sigma is a rejected part.
+  StampedPose bad = PoseAt(3.0);
+  bad.twist_sigma_per_s = Vec6::Zero();
+  a.addOdometry(400'000'000, bad);
+  EXPECT_EQ(a.counters().rejected_invalid, 1u);
+}
+
 void AddAll(FrameAssembler& a, int64_t t, double z) {
   a.addOdometry(t, PoseAt(z));
   a.addMask(t, kMask);

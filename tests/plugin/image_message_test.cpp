@@ -65,25 +65,36 @@ TEST(ImageMessage, NamesWhatIsWrongWithABadSample) {
   EXPECT_EQ(DecodeImage(msg, ImageRole::kColour).error, "");
 }
 
-TEST(ImageMessage, OdometryKeepsThePoseAndTakesSigmasFromTheCovariance) {
+TEST(ImageMessage, OdometryKeepsThePoseAndTakesTheIncrementNoiseFromTheTwistCovariance) {
   const SE3 T = SE3::Exp((Vec6() << 1, 2, 3, 0.1, 0.2, 0.3).finished());
-  Vec6 sigma;
-  sigma << 0.1, 0.2, 0.3, 0.01, 0.02, 0.03;
+  Vec6 twist_sigma;
+  twist_sigma << 0.1, 0.2, 0.3, 0.01, 0.02, 0.03;
   std::string error;
-  const auto pose = DecodeOdometry(EncodeOdometry(T, 5, "odom", "camera", sigma), Vec6::Constant(9.0), &error);
+  auto msg = EncodeOdometry(T, 5, "odom", "camera", twist_sigma);
+  // A pose covariance (the drift accumulated over a drive) says nothing about one increment: not used.
+  for (int i = 0; i < 6; ++i) msg.pose().covariance()[static_cast<size_t>(7 * i)] = 100.0;
+  const auto pose = DecodeOdometry(msg, &error);
   ASSERT_TRUE(pose) << error;
   EXPECT_LT((pose->T_odom_camera.inverse() * T).Log().norm(), 1e-12);
-  EXPECT_TRUE(pose->sigma.isApprox(sigma, 1e-12));
-  const auto defaults = DecodeOdometry(EncodeOdometry(T, 5, "odom", "camera"), Vec6::Constant(9.0), &error);
-  EXPECT_TRUE(defaults->sigma.isApprox(Vec6::Constant(9.0)));
+  ASSERT_TRUE(pose->twist_sigma_per_s);
+  EXPECT_TRUE(pose->twist_sigma_per_s->isApprox(twist_sigma, 1e-12));
+  // No twist covariance (or only part of it): the configured increment sigma applies.
+  EXPECT_FALSE(DecodeOdometry(EncodeOdometry(T, 5, "odom", "camera"), &error)->twist_sigma_per_s);
+  auto partial = EncodeOdometry(T, 5, "odom", "camera", twist_sigma);
+  partial.twist().covariance()[7] = 0.0;
+  EXPECT_FALSE(DecodeOdometry(partial, &error)->twist_sigma_per_s);
 
+  auto negative = EncodeOdometry(T, 5, "odom", "camera");
+  negative.twist().covariance()[0] = -1.0;
+  EXPECT_FALSE(DecodeOdometry(negative, &error));
+  EXPECT_NE(error.find("twist covariance is not finite and non-negative"), std::string::npos);
   auto nan = EncodeOdometry(T, 5, "odom", "camera");
   nan.pose().pose().position().x(std::nan(""));
-  EXPECT_FALSE(DecodeOdometry(nan, Vec6::Constant(1.0), &error));
+  EXPECT_FALSE(DecodeOdometry(nan, &error));
   EXPECT_NE(error.find("not finite"), std::string::npos);
   auto skewed = EncodeOdometry(T, 5, "odom", "camera");
   skewed.pose().pose().orientation().w(3.0);
-  EXPECT_FALSE(DecodeOdometry(skewed, Vec6::Constant(1.0), &error));
+  EXPECT_FALSE(DecodeOdometry(skewed, &error));
   EXPECT_NE(error.find("unit quaternion"), std::string::npos);
 }
 

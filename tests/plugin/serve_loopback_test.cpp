@@ -122,7 +122,7 @@ class Listener {
   struct OnOdometry {
     void operator()(Listener* l, const nav_msgs::msg::Odometry& m) {
       std::string error;
-      const auto pose = DecodeOdometry(m, Vec6::Constant(1.0), &error);
+      const auto pose = DecodeOdometry(m, &error);
       std::lock_guard<std::mutex> lock(l->mutex);
       l->poses_by_stamp[StampToNs(m.header().stamp())] = pose->T_odom_camera;
     }
@@ -161,6 +161,7 @@ std::vector<FrameEstimate> Reference(const std::string& dir, MethodResult* final
   SE3 T_odom_camera;
   std::vector<FrameEstimate> out;
   std::string error;
+  int64_t previous_t_ns = 0;
   for (int k = 0; k < data.size(); ++k) {
     const ImageFrame f = data.read(k);
     Vec6 sigma = Vec6::Constant(0.01);
@@ -170,7 +171,11 @@ std::vector<FrameEstimate> Reference(const std::string& dir, MethodResult* final
     cv::Mat ids;
     f.instance_ids.convertTo(ids, CV_16U);
     assembler.addMask(f.t_ns, DecodeImage(EncodeImage(ids, ImageRole::kMask, f.t_ns, "c"), ImageRole::kMask).image);
-    assembler.addOdometry(f.t_ns, *DecodeOdometry(EncodeOdometry(T_odom_camera, f.t_ns, "o", "c", sigma), Vec6::Constant(0.01), &error));
+    // As dslam publish sends it: the increment's sigma per second since the previous frame.
+    const double dt_s = k > 0 ? static_cast<double>(f.t_ns - previous_t_ns) * 1e-9 : 0.0;
+    const Vec6 twist_sigma = dt_s > 0.0 ? Vec6(sigma / dt_s) : Vec6::Zero();
+    previous_t_ns = f.t_ns;
+    assembler.addOdometry(f.t_ns, *DecodeOdometry(EncodeOdometry(T_odom_camera, f.t_ns, "o", "c", twist_sigma), &error));
     for (const ImageFrame& ready : assembler.takeReady()) out.push_back(pipeline.process(ready));
   }
   if (final_result) *final_result = pipeline.finish();
