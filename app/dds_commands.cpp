@@ -7,6 +7,7 @@
 
 #include "data/kitti_tracking.h"
 #include "pipeline/config_yaml.h"
+#include "plugin/topics.h"
 #include "plugin/udp_buffer_check.h"
 
 namespace dslam {
@@ -50,6 +51,8 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
     serve.frame_rate_hz = options.frame_rate_hz;
     serve.out_dir = options.out_dir;
     if (options.domain_id < 0 || options.domain_id > 232) throw std::invalid_argument("--domain must be in 0..232");
+    for (const std::string& name : serve.vehicles)
+      if (const std::string bad = FindInvalidVehicleName(name); !bad.empty()) throw std::invalid_argument(bad);
     serve.assembler.validate();
   } catch (const std::exception& e) {
     err << "dslam serve: error: " << e.what() << std::endl;
@@ -96,8 +99,11 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
 int RunPublishCommand(const PublishCommandOptions& options, std::ostream& out, std::ostream& err) {
   InstallStopHandlers();
   try {
+    if (const std::string bad = FindInvalidVehicleName(options.publish.vehicle); !bad.empty())
+      throw std::invalid_argument(bad);
     ImageDatasetOptions dataset_options;
     dataset_options.sequence = options.sequence;
+    dataset_options.read_flow = false;  // flow is not sent
     const ImageDataset dataset(options.dataset_dir, dataset_options);
     out << "dslam publish: " << dataset.size() << " frames of " << options.dataset_dir << " at "
         << options.publish.rate_hz << " Hz on domain " << options.publish.domain_id << std::endl;

@@ -1,6 +1,8 @@
 #pragma once
 // A rectified pinhole camera (x right, y down, z forward; pixel centres at integer coordinates, as OpenCV).
 
+#include <string>
+
 #include "geometry/se3.h"
 
 namespace dslam {
@@ -21,5 +23,16 @@ struct PinholeCamera {
     return uv.x() >= 0.0 && uv.x() < width && uv.y() >= 0.0 && uv.y() < height;
   }
 };
+
+// Empty when a width x height image can come from a camera with these intrinsics: the principal point lies
+// in the middle half of the image, as it does for real lenses; else what is wrong. An image size taken
+// from a stream's first frame is checked with it, so that a stray frame cannot fix the wrong size.
+inline std::string FindSizeMismatch(const PinholeCamera& intrinsics, int width, int height) {
+  const bool fits = width > 0 && height > 0 && intrinsics.cx >= 0.25 * width && intrinsics.cx <= 0.75 * width &&
+                    intrinsics.cy >= 0.25 * height && intrinsics.cy <= 0.75 * height;
+  if (fits) return {};
+  return "a " + std::to_string(width) + "x" + std::to_string(height) + " image does not fit the calibration: its principal point (" +
+         std::to_string(intrinsics.cx) + ", " + std::to_string(intrinsics.cy) + ") must lie in the middle half of the image";
+}
 
 }  // namespace dslam

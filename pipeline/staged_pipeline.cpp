@@ -41,6 +41,15 @@ void StagedPipeline::fail(std::exception_ptr error) {
   measurements_.close();
 }
 
+std::unique_ptr<ImageFrontend> MakeFrontend(const FrontendParams& params, PinholeCamera* camera, const ImageFrame& first) {
+  if (camera->width == 0 || camera->height == 0) {
+    if (const std::string bad = FindSizeMismatch(*camera, first.image.cols, first.image.rows); !bad.empty())
+      throw std::invalid_argument("frame at " + std::to_string(first.t_ns) + " ns: " + bad);
+    camera->width = first.image.cols, camera->height = first.image.rows;
+  }
+  return std::make_unique<ImageFrontend>(params, *camera);
+}
+
 void StagedPipeline::runFrontend() {
   int accepted = 0;
   // The odometry of frames the front-end rejected, carried into the next accepted frame's increment so
@@ -50,14 +59,11 @@ void StagedPipeline::runFrontend() {
     if (abort_) return;
     try {
       if (carried && frame->odometry) frame->odometry = Compose(*carried, *frame->odometry);
-      if (!frontend_) {
-        if (camera_.width == 0 || camera_.height == 0) camera_.width = frame->image.cols, camera_.height = frame->image.rows;
-        frontend_ = std::make_unique<ImageFrontend>(config_.frontend, camera_);
-      }
       frame->frame_index = accepted;  // the back-end numbers frames 0, 1, 2, ... as they reach it
       const auto start = std::chrono::steady_clock::now();
       FrameMeasurement m;
       try {
+        if (!frontend_) frontend_ = MakeFrontend(config_.frontend, &camera_, *frame);
         m = frontend_->process(*frame);
       } catch (const std::invalid_argument& e) {
         if (!callbacks_.on_rejected) throw;

@@ -36,6 +36,11 @@ struct StagedPipelineCallbacks {
   std::function<void(const ImageFrame&, const std::string&)> on_rejected;
 };
 
+// The front-end for a stream whose first accepted frame is `first`. A camera without a size (a service
+// given only intrinsics) takes the frame's, when the frame fits the intrinsics (FindSizeMismatch);
+// otherwise std::invalid_argument, and the next frame is tried.
+std::unique_ptr<ImageFrontend> MakeFrontend(const FrontendParams& params, PinholeCamera* camera, const ImageFrame& first);
+
 class StagedPipeline {
  public:
   // `camera`: its size is taken from the first frame when width/height are 0. `queue_capacity`: frames

@@ -12,6 +12,7 @@
 
 #include "dslam_msgsPubSubTypes.h"
 #include "nav_msgs_OdometryPubSubTypes.h"
+#include "output/dir_lock.h"
 #include "output/run_report.h"
 #include "output/trajectory_io.h"
 #include "output/whole_file.h"
@@ -65,6 +66,7 @@ class Vehicle {
         options_(options),
         assembler_(options.assembler),
         inbox_(kInboxSamplesPerFrame * static_cast<size_t>(options.assembler.max_pending)),
+        dir_lock_(ResultDir(options, name)),
         stream_(ResultDir(options, name)),
         colour_listener_(this, ImageRole::kColour),
         depth_listener_(this, ImageRole::kDepth),
@@ -340,6 +342,7 @@ class Vehicle {
   // Drops and rejections as of the last status message, to publish a new one when one more happens.
   uint64_t published_problems_ = 0;
   BoundedQueue<Sample> inbox_;
+  DirLock dir_lock_;          // this vehicle's folder is ours alone while we run
   StreamingFileSink stream_;  // the results as they become final; rewritten whole at the end
   std::unique_ptr<StagedPipeline> pipeline_;
   std::optional<MethodResult> result_;  // once stopped
@@ -359,6 +362,8 @@ struct ServeNode::Impl {
 
 ServeNode::ServeNode(const ServeOptions& options, const RunConfig& config) : impl_(std::make_unique<Impl>()) {
   config.validate();
+  for (const std::string& name : options.vehicles)
+    if (const std::string bad = FindInvalidVehicleName(name); !bad.empty()) throw std::invalid_argument(bad);
   impl_->session = std::make_unique<DdsSession>(options.domain_id, options.profiles_file);
   for (const std::string& name : options.vehicles) {
     if (impl_->vehicles.count(name)) throw std::invalid_argument("vehicle '" + name + "' given twice");

@@ -11,6 +11,29 @@ struct VehicleTopics {
   std::string camera_odometry, object_motions, status;  // outputs
 };
 
+// Empty when `vehicle` can name a vehicle: "" (no namespace) or ROS 2 name tokens ([A-Za-z_][A-Za-z0-9_]*)
+// joined by '/'. The name is a topic namespace and a results folder under --out: "..", an absolute path
+// or characters ROS 2 refuses would put either somewhere else.
+inline std::string FindInvalidVehicleName(const std::string& vehicle) {
+  if (vehicle.empty()) return {};
+  auto alpha = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; };
+  auto digit = [](char c) { return c >= '0' && c <= '9'; };
+  bool token_start = true;
+  for (char c : vehicle) {
+    if (c == '/') {
+      if (token_start) break;  // empty token: leading, trailing or doubled '/'
+      token_start = true;
+      continue;
+    }
+    if (!(alpha(c) || (!token_start && digit(c))))
+      return "vehicle name '" + vehicle + "' is not a ROS 2 namespace: use letters, digits and '_' (not first), tokens joined by '/'";
+    token_start = false;
+  }
+  if (token_start)
+    return "vehicle name '" + vehicle + "' is not a ROS 2 namespace: an empty token (leading, trailing or doubled '/')";
+  return {};
+}
+
 inline VehicleTopics TopicsFor(const std::string& vehicle) {
   const std::string ns = vehicle.empty() ? "rt/" : "rt/" + vehicle + "/";
   return {ns + "camera/color/image_raw",        ns + "camera/depth/image_raw", ns + "camera/instance_mask",

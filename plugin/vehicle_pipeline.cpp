@@ -1,5 +1,7 @@
 #include "plugin/vehicle_pipeline.h"
 
+#include "pipeline/staged_pipeline.h"
+
 namespace dslam {
 
 VehiclePipeline::VehiclePipeline(const RunConfig& config, const PinholeCamera& camera, double frame_rate_hz)
@@ -9,10 +11,7 @@ VehiclePipeline::VehiclePipeline(const RunConfig& config, const PinholeCamera& c
 }
 
 FrameEstimate VehiclePipeline::process(const ImageFrame& frame_in) {
-  if (!frontend_) {
-    if (camera_.width == 0 || camera_.height == 0) camera_.width = frame_in.image.cols, camera_.height = frame_in.image.rows;
-    frontend_ = std::make_unique<ImageFrontend>(config_.frontend, camera_);
-  }
+  if (!frontend_) frontend_ = MakeFrontend(config_.frontend, &camera_, frame_in);
   // The back-end numbers frames 0, 1, 2, ... as they reach it.
   ImageFrame frame = frame_in;
   frame.frame_index = framesProcessed();

@@ -1,10 +1,12 @@
 // ServeNode's construction fails cleanly: an error naming what could not be created, no thread left
 // running (a reader that cannot be created used to end in std::terminate).
 #include "plugin/serve_node.h"
+#include "plugin/topics.h"
 
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <sstream>
 
 #include "support/child_process.h"
 #include "support/dds_domain.h"
@@ -33,6 +35,41 @@ TEST(ServeNode, AReaderThatCannotBeCreatedIsAnErrorNotACrash) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("sensor_reader"), std::string::npos) << e.what();
   }
+}
+
+TEST(ServeNode, AVehicleNameIsARos2NamespaceNotAPathOutOfOut) {
+  // `--vehicle ..` wrote its results outside --out.
+  for (const char* good : {"", "car1", "fleet/car_2", "_x"}) EXPECT_EQ(FindInvalidVehicleName(good), "") << good;
+  for (const char* bad : {"..", "../x", "/abs", "a//b", "a/", "1car", "car-1", "car 1", "a/./b"})
+    EXPECT_NE(FindInvalidVehicleName(bad), "") << bad;
+  ServeOptions options;
+  options.domain_id = test::DomainFor(test::DdsTestSlot::kServeNodeErrors);
+  options.vehicles = {".."};
+  options.out_dir = test::TempPath("serve_node_bad_vehicle");
+  try {
+    ServeNode node(options, RunConfig{});
+    FAIL() << "a vehicle named '..' was served";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("vehicle name '..' is not a ROS 2 namespace"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ServeNode, TwoNodesCannotWriteOneVehicleFolder) {
+  ServeOptions options;
+  options.domain_id = test::DomainFor(test::DdsTestSlot::kServeNodeErrors);
+  options.profiles_file = std::string(DSLAM_SOURCE_DIR) + "/config/dds_profiles.xml";
+  options.vehicles = {"v"};
+  options.out_dir = test::TempPath("serve_node_shared_out");
+  ServeNode first(options, RunConfig{});
+  try {
+    ServeNode second(options, RunConfig{});
+    FAIL() << "two nodes write one folder";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(options.out_dir + "/v is in use by another process"), std::string::npos)
+        << e.what();
+  }
+  std::ostringstream log;
+  first.shutdown(log);
 }
 
 }  // namespace

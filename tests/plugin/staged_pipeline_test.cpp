@@ -6,6 +6,8 @@
 
 #include <mutex>
 
+#include <opencv2/imgproc.hpp>
+
 #include "app/run_command.h"
 #include "output/result_reader.h"
 #include "output/trajectory_io.h"
@@ -90,6 +92,44 @@ TEST(StagedPipeline, EqualsTheSequentialPipelineAndCarriesARejectedFramesOdometr
                   .norm(),
               0.0);
   EXPECT_FALSE(staged.push(data.read(0)));  // finished
+}
+
+TEST(StagedPipeline, ACameraWithoutASizeTakesItFromTheFirstFrameThatFitsItsIntrinsics) {
+  // serve knows the intrinsics only: three tiny frames first used to fix the size, and every real frame
+  // was rejected for the rest of the session.
+  const std::string dir = test::RenderedCity("staged_city", 12);
+  const RunConfig config = RunDefaults();
+  const ImageDataset data(dir, config.dataset);
+  PinholeCamera intrinsics = data.camera();
+  EXPECT_EQ(FindSizeMismatch(intrinsics, intrinsics.width, intrinsics.height), "");
+  EXPECT_NE(FindSizeMismatch(intrinsics, 40, 12), "");
+  EXPECT_NE(FindSizeMismatch(intrinsics, 700, 200), "");  // holds the principal point, but near its edge
+  intrinsics.width = intrinsics.height = 0;
+  std::mutex mutex;
+  std::vector<std::string> rejections;
+  int estimates = 0;
+  StagedPipelineCallbacks callbacks;
+  callbacks.on_estimate = [&](const FrameEstimate&, const FrameMeasurement&) {
+    std::lock_guard<std::mutex> lock(mutex);
+    ++estimates;
+  };
+  callbacks.on_rejected = [&](const ImageFrame&, const std::string& reason) {
+    std::lock_guard<std::mutex> lock(mutex);
+    rejections.push_back(reason);
+  };
+  StagedPipeline staged(config, intrinsics, data.frameRateHz(), 2, callbacks);
+  for (int k = 0; k < 3; ++k) {
+    ImageFrame tiny = data.read(k);
+    cv::resize(tiny.image, tiny.image, cv::Size(40, 12));
+    cv::resize(tiny.depth_m, tiny.depth_m, cv::Size(40, 12), 0, 0, cv::INTER_NEAREST);
+    cv::resize(tiny.instance_ids, tiny.instance_ids, cv::Size(40, 12), 0, 0, cv::INTER_NEAREST);
+    ASSERT_TRUE(staged.push(tiny));
+  }
+  for (int k = 3; k < data.size(); ++k) ASSERT_TRUE(staged.push(data.read(k)));
+  staged.finish();
+  ASSERT_EQ(rejections.size(), 3u);
+  EXPECT_NE(rejections[0].find("40x12 image does not fit the calibration"), std::string::npos) << rejections[0];
+  EXPECT_EQ(estimates, data.size() - 3);
 }
 
 TEST(StagedPipeline, WithoutARejectionHandlerABadFrameStopsItAndFinishThrowsTheError) {
