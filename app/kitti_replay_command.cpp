@@ -14,6 +14,7 @@ int RunKittiReplayCommand(const KittiReplayCommandOptions& options, std::ostream
   try {
     const auto start = std::chrono::steady_clock::now();
     const RunConfig config = BuildRunConfig(options, kKittiReplayDefaultMode);
+    RequireWritableOutDir(options.out_dir);
     const KittiGroundTruthSequence gt = LoadKittiGroundTruth(options.data_dir, options.sequence);
 
     KittiReplayOptions replay;

@@ -19,6 +19,7 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
     RunConfig config = BuildRunConfig(options, kRunDefaultMode);
     if (options.flow) config.frontend.flow.method = ParseFlowMethod(*options.flow);
     if (options.frames < 0) throw std::invalid_argument("--frames must be >= 0");
+    RequireWritableOutDir(options.out_dir);
     ImageDatasetOptions dataset_options = config.dataset;
     dataset_options.sequence = options.sequence;
     // Only the precomputed flow method reads flow/*.flo: another must not fail on a file it never uses.

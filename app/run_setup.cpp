@@ -1,5 +1,7 @@
 #include "app/run_setup.h"
 
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 #include "app/figures_command.h"
@@ -19,6 +21,21 @@ RunConfig BuildRunConfig(const CommonRunOptions& options, const std::string& def
   if (options.sigma_given) config.backend.noise.point_sigma_m = options.sigma_m;
   config.validate();
   return config;
+}
+
+void RequireWritableOutDir(const std::string& dir) {
+  if (dir.empty()) throw std::invalid_argument("--out must name a folder");
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw std::runtime_error("cannot create the output folder " + dir + ": " + ec.message());
+  const std::string probe = dir + "/.dslam_write_check";
+  {
+    std::ofstream out(probe, std::ios::trunc);
+    out << "x";
+    out.flush();
+    if (!out) throw std::runtime_error("cannot write in the output folder " + dir);
+  }
+  std::filesystem::remove(probe, ec);
 }
 
 int DrawRunFigures(const CommonRunOptions& options, std::ostream& out, std::ostream& err) {

@@ -33,6 +33,10 @@ struct CommonRunOptions {
 // Throws std::invalid_argument with a message naming the bad option.
 RunConfig BuildRunConfig(const CommonRunOptions& options, const std::string& default_mode);
 
+// Creates --out and checks that files can be written in it, before any computation: an unwritable
+// folder found only at the end loses the whole run. Throws std::runtime_error naming the folder.
+void RequireWritableOutDir(const std::string& dir);
+
 // The figures at the end of a run (unless options.no_figures): the exit code of `dslam figures`.
 int DrawRunFigures(const CommonRunOptions& options, std::ostream& out, std::ostream& err);
 

@@ -18,6 +18,7 @@ int RunSimCommand(const SimCommandOptions& options, std::ostream& out, std::ostr
     scenario.num_frames = options.frames;
     scenario.noise.point_sigma_m = options.sigma_m;
     const Sequence seq = MakeScenario(options.scenario, scenario);
+    RequireWritableOutDir(options.out_dir);  // before the methods run, not after
     if (!options.quiet)
       out << "Simulated '" << seq.name << "': " << seq.frames.size() << " frames, " << seq.gt.objects.size()
           << " objects, seed " << options.seed << std::endl;

@@ -121,6 +121,16 @@ TEST(RunCommand, BadInputGivesOneLineAndExitStatus2) {
   EXPECT_EQ(RunRunCommand(options, out, err), 2);
   EXPECT_NE(err.str().find("has no flow/ folder"), std::string::npos) << err.str();
 
+  // An --out that cannot be written is found at the start, not after the whole run.
+  const std::string a_file = test::TempPath("run_out_is_a_file");
+  std::ofstream(a_file) << "x";
+  options.out_dir = a_file + "/results";
+  err.str("");
+  EXPECT_EQ(RunRunCommand(options, out, err), 2);
+  EXPECT_NE(err.str().find("cannot create the output folder " + a_file + "/results"), std::string::npos) << err.str();
+  EXPECT_EQ(out.str().find("front-end: frame"), std::string::npos);  // nothing was computed
+  options.out_dir = test::TempPath("run_bad_out");
+
   // A flow method other than precomputed never reads flow/*.flo, so a corrupt one does not stop it.
   const std::string with_flow = test::TempDir("run_corrupt_flow");
   fs::copy(CityDataset(), with_flow, fs::copy_options::recursive | fs::copy_options::overwrite_existing);

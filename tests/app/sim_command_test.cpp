@@ -6,6 +6,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 namespace dslam {
@@ -39,6 +40,13 @@ TEST(SimCommand, BadConfigurationIsAClearError) {
   o.config_path = "/nonexistent.yaml";
   ExpectFailure(o, "cannot open configuration file /nonexistent.yaml");
   EXPECT_FALSE(std::filesystem::exists(o.out_dir));
+  // An --out that cannot be written is found before the run, not after all its computation.
+  o.config_path.reset();
+  const std::string file = TempPath("out_is_a_file");
+  std::ofstream(file) << "x";
+  o.out_dir = file + "/results";
+  o.frames = 0;
+  ExpectFailure(o, "cannot create the output folder " + file + "/results");
 }
 
 TEST(SimCommand, BinaryRejectsBadArgumentsWithoutCrashing) {
