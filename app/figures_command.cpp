@@ -20,13 +20,16 @@ int RunFiguresCommand(const std::string& dir, const FigureOptions& options, std:
       err << "dslam figures: error: " << error << std::endl;
       return 3;
     }
-    // The error plots need ground truth; every other figure is drawn without it.
-    std::vector<std::string> files = {"trajectory.png", "speeds.png", "map.png"};
+    // The error plots need ground truth, the speeds object estimates; every other figure is drawn anyway.
+    std::vector<std::string> files = {"trajectory.png", "map.png"};
     DrawTrajectoryFigure(results, dir + "/trajectory.png", options);
-    DrawSpeedsFigure(results, dir + "/speeds.png", options);
+    if (results.has_objects) {
+      DrawSpeedsFigure(results, dir + "/speeds.png", options);
+      files.insert(files.begin() + 1, "speeds.png");
+    }
     if (results.has_ground_truth) {
       DrawErrorsFigure(results, dir + "/errors.png", options);
-      files.insert(files.begin() + 2, "errors.png");
+      files.insert(files.end() - 1, "errors.png");
     }
     DrawMapFigure(results, dir + "/map.png", options);
     WriteReportHtml(results, files, dir + "/report.html");

@@ -68,7 +68,7 @@ std::string RunResults::title() const {
   std::string t = run.value("command", std::string("run"));
   if (run.contains("scenario")) t += " " + run["scenario"].get<std::string>();
   if (run.contains("sequence")) t += " " + run["sequence"].get<std::string>();
-  t += ", ours";
+  t += ", " + method;
   if (run.contains("mode")) t += " (" + run["mode"].get<std::string>() + " motion)";
   return t;
 }
@@ -87,19 +87,31 @@ RunResults ReadRunResults(const std::string& dir) {
       throw std::runtime_error(path + ": not valid JSON: " + e.what());
     }
   }
+  // The figures show ours; a run of other methods only (`run --methods static_only`) shows the first it has.
+  for (const char* method : {"ours", "slam_mot", "static_only"})
+    if (fs::exists(dir + "/camera_" + method + ".tum")) {
+      r.method = method;
+      break;
+    }
+  if (r.method.empty()) throw std::runtime_error(dir + ": no camera_ours.tum, camera_slam_mot.tum or camera_static_only.tum");
+  const std::string camera_path = dir + "/camera_" + r.method + ".tum";
   r.has_ground_truth = fs::exists(dir + "/camera_gt.tum");
   if (r.has_ground_truth) {
     r.camera_gt = ReadTumTrajectory(dir + "/camera_gt.tum", &r.t_ns);
-    r.camera_est = ReadTumTrajectory(dir + "/camera_ours.tum");
+    r.camera_est = ReadTumTrajectory(camera_path);
   } else {
-    r.camera_est = ReadTumTrajectory(dir + "/camera_ours.tum", &r.t_ns);
+    r.camera_est = ReadTumTrajectory(camera_path, &r.t_ns);
   }
   if (r.has_ground_truth && r.camera_est.size() != r.camera_gt.size())
-    throw std::runtime_error(dir + "/camera_ours.tum: " + std::to_string(r.camera_est.size()) + " poses for " +
+    throw std::runtime_error(camera_path + ": " + std::to_string(r.camera_est.size()) + " poses for " +
                              std::to_string(r.camera_gt.size()) + " in camera_gt.tum");
 
-  const std::string speeds_path = dir + "/object_speeds.csv";
-  const CsvTable speeds =
+  // Ours always writes its object and map files (object_speeds.csv, ...); SLAM+MOT its object files with
+  // its name (object_speeds_slam_mot.csv, ...); static-only none.
+  const std::string suffix = r.method == "ours" ? "" : "_" + r.method;
+  const std::string speeds_path = dir + "/object_speeds" + suffix + ".csv";
+  r.has_objects = r.method == "ours" || fs::exists(speeds_path);
+  const CsvTable speeds = !r.has_objects ? CsvTable{} :
       ReadCsv(speeds_path, {"frame", "object_id", "is_dynamic", "est_speed_mps", "gt_speed_mps"});
   for (size_t i = 0; i < speeds.rows.size(); ++i) {
     const auto& row = speeds.rows[i];
@@ -119,8 +131,8 @@ RunResults ReadRunResults(const std::string& dir) {
     r.speeds.push_back(s);
   }
 
-  const std::string motions_path = dir + "/object_motions.csv";
-  const CsvTable motions =
+  const std::string motions_path = dir + "/object_motions" + suffix + ".csv";
+  const CsvTable motions = !r.has_objects && !fs::exists(motions_path) ? CsvTable{} :
       ReadCsv(motions_path, {"frame", "object_id", "is_dynamic", "est_tx", "est_ty", "est_tz", "est_qx", "est_qy",
                              "est_qz", "est_qw", "gt_tx", "gt_ty", "gt_tz", "gt_qx", "gt_qy", "gt_qz", "gt_qw"});
   for (size_t i = 0; i < motions.rows.size(); ++i) {
@@ -153,7 +165,8 @@ RunResults ReadRunResults(const std::string& dir) {
   }
 
   const std::string map_path = dir + "/map_points.csv";
-  const CsvTable map = ReadCsv(map_path, {"frame", "object_id", "x", "y", "z"});
+  const CsvTable map = r.method != "ours" && !fs::exists(map_path) ? CsvTable{} :
+      ReadCsv(map_path, {"frame", "object_id", "x", "y", "z"});
   for (size_t i = 0; i < map.rows.size(); ++i) {
     const auto& row = map.rows[i];
     const int line = map.line_numbers[i];

@@ -19,7 +19,10 @@ struct RunResults {
   // False for a run on data without ground truth (a recording, `serve`): camera_gt, the centroids and the
   // motions' ground truth are empty, and speeds hold the estimates alone.
   bool has_ground_truth = true;
-  std::vector<SE3> camera_gt, camera_est;  // ours
+  // The method drawn: "ours", or for a run without it the first of slam_mot, static_only it has.
+  std::string method;
+  bool has_objects = true;  // object estimates (speeds, motions): ours always; static-only never
+  std::vector<SE3> camera_gt, camera_est;  // of `method`
   struct SpeedRow {
     int frame = 0, object_id = 0;
     bool estimated = false, is_dynamic = false;

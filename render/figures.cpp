@@ -169,7 +169,7 @@ PlotArea DrawTrajectoryFigure(const RunResults& r, const std::string& png, const
   for (const auto& T : r.camera_est) est.emplace_back(T.translation().x(), T.translation().z());
   for (const auto& p : gt.empty() ? est : gt) extend(p.first, p.second);
   if (!gt.empty()) AddLine(chart, gt, kGroundTruthColour, Px(3.0, o), false, "camera ground truth");
-  AddLine(chart, est, kEstimateColour, Px(2.0, o), false, "camera estimate (ours)");
+  AddLine(chart, est, kEstimateColour, Px(2.0, o), false, "camera estimate (" + r.method + ")");
 
   std::map<int, std::map<int, Vec3>> centroids;  // object -> frame -> ground-truth centroid
   for (const auto& c : r.centroids)
@@ -312,7 +312,7 @@ void DrawErrorsFigure(const RunResults& r, const std::string& png, const FigureO
   for (int i = 0; i < 3; ++i) {
     auto* chart = vtkChartXY::SafeDownCast(matrix->GetChart(vtkVector2i(0, 2 - i)));
     StyleChart(chart, panels[i].title, "frame", panels[i].y, o, 12);
-    AddLine(chart, *panels[i].data, panels[i].colour, Px(2.0, o), false, "ours");
+    AddLine(chart, *panels[i].data, panels[i].colour, Px(2.0, o), false, r.method);
   }
   AddFigureTitle(view, "Errors per frame - " + r.title(), o);
   SavePng(view->GetRenderWindow(), png);

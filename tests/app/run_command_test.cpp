@@ -13,6 +13,7 @@
 
 #include "app/figures_command.h"
 #include "app/render_scene_command.h"
+#include "support/child_process.h"
 #include "support/no_display.h"
 #include "support/rendered_city.h"
 #include "support/temp_paths.h"
@@ -103,6 +104,25 @@ TEST(RunCommand, WithoutGroundTruthEveryFigureThatNeedsNoneIsDrawnAndTheExitIs0)
   std::ostringstream out2, err2;
   EXPECT_EQ(RunFiguresCommand(options.out_dir, FigureOptions{}, out2, err2), 0) << err2.str();
   EXPECT_TRUE(fs::exists(options.out_dir + "/trajectory.png"));
+}
+
+TEST(RunCommand, ARunWithoutOursDrawsTheFiguresOfTheMethodItRan) {
+  // `run --methods static_only` used to fail its figures (exit 2) for want of camera_ours.tum.
+  test::ScopedNoDisplay no_display;
+  for (const std::string method : {"static_only", "slam_mot"}) {
+    RunCommandOptions options;
+    options.dataset_dir = CityDataset();
+    options.frames = 6;
+    options.methods = {method};
+    options.out_dir = test::TempPath("run_only_" + method);
+    std::ostringstream out, err;
+    ASSERT_EQ(RunRunCommand(options, out, err), 0) << method << ": " << err.str() << out.str();
+    for (const char* f : {"trajectory.png", "errors.png", "map.png", "report.html"})
+      EXPECT_TRUE(fs::exists(options.out_dir + "/" + f)) << method << " " << f;
+    // Speeds need object estimates: SLAM+MOT has them, static-only not.
+    EXPECT_EQ(fs::exists(options.out_dir + "/speeds.png"), method == "slam_mot") << method;
+    EXPECT_NE(test::ReadFile(options.out_dir + "/report.html").find(method), std::string::npos) << method;
+  }
 }
 
 TEST(RunCommand, BadInputGivesOneLineAndExitStatus2) {
