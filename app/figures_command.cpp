@@ -12,6 +12,12 @@ int RunFiguresCommand(const std::string& dir, const FigureOptions& options, std:
   try {
     if (!(options.scale > 0.0 && options.scale <= 8.0)) throw std::invalid_argument("--scale must be in (0, 8]");
     if (options.width < 200 || options.height < 150) throw std::invalid_argument("figure size must be at least 200x150");
+    // A bigger picture than this is gigabytes of pixels and beyond what the off-screen X server renders.
+    constexpr double kMaxSidePx = 16384;
+    if (options.width * options.scale > kMaxSidePx || options.height * options.scale > kMaxSidePx)
+      throw std::invalid_argument("figures of " + std::to_string(static_cast<long>(options.width * options.scale)) + "x" +
+                                  std::to_string(static_cast<long>(options.height * options.scale)) +
+                                  " pixels (size times --scale): at most 16384 on a side");
     const auto start = std::chrono::steady_clock::now();
     const RunResults results = ReadRunResults(dir);
     std::string error;

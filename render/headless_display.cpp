@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -39,9 +40,14 @@ std::optional<HeadlessDisplay> HeadlessDisplay::Acquire(std::string* error) {
     const std::string lock = "/tmp/.X" + std::to_string(n) + "-lock";
     if (::access(lock.c_str(), F_OK) == 0) continue;
     const std::string display = ":" + std::to_string(n);
+    const pid_t parent = ::getpid();
     const pid_t pid = ::fork();
     if (pid < 0) break;
     if (pid == 0) {
+      // Xvfb must never outlive us, however we end (SIGTERM while drawing, a crash, SIGKILL): the kernel
+      // sends it SIGTERM when we die. Had we died already, before this call, its parent is another one.
+      ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+      if (::getppid() != parent) ::_exit(0);
       const int devnull = ::open("/dev/null", O_RDWR);
       if (devnull >= 0) {
         ::dup2(devnull, STDIN_FILENO);

@@ -8,13 +8,18 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
+#include <csignal>
+#include <set>
 #include <sstream>
+#include <thread>
 
 #include "app/figures_command.h"
 #include "output/run_report.h"
 #include "pipeline/run_sequence.h"
 #include "render/headless_display.h"
 #include "simulation/scenarios.h"
+#include "support/child_process.h"
 #include "support/no_display.h"
 #include "support/temp_paths.h"
 
@@ -164,6 +169,60 @@ TEST_F(Figures, WithoutXvfbItSaysSoAndFailsCleanly) {
   EXPECT_EQ(code, 3);
   EXPECT_NE(err.str().find("Xvfb is not installed"), std::string::npos) << err.str();
   EXPECT_FALSE(fs::exists(dir + "/trajectory.png"));
+  fs::remove_all(dir);
+}
+
+TEST_F(Figures, OversizedFiguresAreRefusedUpFront) {
+  // --scale 8 --width 8000 --height 8000 (each within its range) died on an X error.
+  const std::string dir = MakeResults("oversized");
+  FigureOptions huge;
+  huge.scale = 8.0;
+  huge.width = huge.height = 8000;
+  std::ostringstream out, err;
+  EXPECT_EQ(RunFiguresCommand(dir, huge, out, err), 2);
+  EXPECT_NE(err.str().find("figures of 64000x64000 pixels (size times --scale): at most 16384 on a side"),
+            std::string::npos)
+      << err.str();
+  EXPECT_FALSE(fs::exists(dir + "/trajectory.png"));
+  fs::remove_all(dir);
+}
+
+std::set<pid_t> XvfbProcesses() {
+  std::set<pid_t> pids;
+  for (const auto& entry : fs::directory_iterator("/proc")) {
+    const std::string name = entry.path().filename();
+    if (name.empty() || !std::all_of(name.begin(), name.end(), ::isdigit)) continue;
+    std::ifstream comm(entry.path() / "comm");
+    std::string command;
+    if (std::getline(comm, command) && command == "Xvfb") pids.insert(std::stoi(name));
+  }
+  return pids;
+}
+
+TEST_F(Figures, OurXvfbDoesNotOutliveUsWhenWeAreKilledWhileDrawing) {
+  // SIGTERM while drawing left dslam's own Xvfb running with parent 1.
+  const std::string dir = MakeResults("killed_while_drawing");
+  const std::set<pid_t> before = XvfbProcesses();
+  // Large figures: long enough to be killed in the middle.
+  test::Process figures({"figures", dir, "--scale", "4", "--width", "4000", "--height", "4000"},
+                        test::TempPath("figures_killed.log"));
+  std::set<pid_t> ours;
+  for (int i = 0; i < 200 && ours.empty(); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    for (pid_t p : XvfbProcesses())
+      if (!before.count(p)) ours.insert(p);
+  }
+  ASSERT_FALSE(ours.empty()) << "dslam figures started no Xvfb";
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  figures.signal(SIGKILL);  // no handler runs: only the kernel can stop the Xvfb
+  figures.wait(std::chrono::seconds(10));
+  bool gone = false;
+  for (int i = 0; i < 100 && !gone; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    gone = true;
+    for (pid_t p : ours) gone = gone && ::kill(p, 0) != 0;
+  }
+  EXPECT_TRUE(gone) << "Xvfb outlived the dslam that started it";
   fs::remove_all(dir);
 }
 
