@@ -48,6 +48,9 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
     serve.assembler.timeout_ns = static_cast<int64_t>(options.timeout_ms) * 1'000'000;
     serve.assembler.silence_timeout_ns = static_cast<int64_t>(options.silence_ms) * 1'000'000;
     serve.assembler.max_pending = options.max_pending;
+    if (options.max_pending_mb < 16 || options.max_pending_mb > 8192)
+      throw std::invalid_argument("--max-pending-mb must be in 16..8192");
+    serve.assembler.max_pending_bytes = static_cast<size_t>(options.max_pending_mb) << 20;
     serve.frame_rate_hz = options.frame_rate_hz;
     serve.out_dir = options.out_dir;
     if (options.domain_id < 0 || options.domain_id > 232) throw std::invalid_argument("--domain must be in 0..232");
@@ -83,6 +86,7 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
         for (const auto& [name, s] : node.status())
           out << "  vehicle '" << name << "': " << s.counters.parts_received << " samples, " << s.frames_processed
               << " frames processed, " << s.counters.dropped_incomplete << " incomplete, "
+              << s.counters.dropped_queue_full << " dropped (backlog full), "
               << s.counters.rejected_invalid << " rejected" << (s.counters.last_rejection.empty() ? "" : " (last: ")
               << s.counters.last_rejection << (s.counters.last_rejection.empty() ? "" : ")") << std::endl;
       }

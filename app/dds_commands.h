@@ -23,6 +23,7 @@ struct ServeCommandOptions {
   int timeout_ms = 500;                 // an incomplete set this far behind the newest stamp is dropped
   int silence_ms = 2000;                // with no sample for this long, incomplete sets are dropped
   int max_pending = 8;                  // frame sets waiting for assembly or for the pipeline (oldest dropped)
+  int max_pending_mb = 256;             // ... and at most this many MiB of their pixels
   double status_every_s = 5.0;          // status line period on the console (0: never)
   double max_run_s = 0.0;               // stop by itself after this long (0: only on SIGINT/SIGTERM)
 };

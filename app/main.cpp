@@ -168,8 +168,12 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   serve_cmd->add_option("--max-pending", serve.max_pending,
-                        "Frame sets held while the pipeline is busy; beyond, the oldest is dropped and counted")
-      ->check(CLI::PositiveNumber)
+                        "Frame sets held while the pipeline is busy (1 to 64); beyond, the oldest is dropped and counted")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  serve_cmd->add_option("--max-pending-mb", serve.max_pending_mb,
+                        "At most this many MiB of pixels in those sets (16 to 8192); beyond, the oldest is dropped")
+      ->check(CLI::Range(16, 8192))
       ->capture_default_str();
   serve_cmd->add_option("--status-every", serve.status_every_s, "Console status period, s (0: never)")
       ->capture_default_str();

@@ -8,7 +8,8 @@ namespace dslam {
 void AssemblerParams::validate() const {
   if (timeout_ns <= 0) throw std::invalid_argument("assembler timeout must be positive");
   if (silence_timeout_ns <= 0) throw std::invalid_argument("assembler silence timeout must be positive");
-  if (max_pending < 1) throw std::invalid_argument("assembler max_pending must be >= 1");
+  if (max_pending < 1 || max_pending > 64) throw std::invalid_argument("max pending frame sets must be in 1..64");
+  if (max_pending_bytes < (size_t{1} << 20)) throw std::invalid_argument("max pending bytes must be at least 1 MiB");
   if (!default_increment_sigma.allFinite() || (default_increment_sigma.array() <= 0.0).any())
     throw std::invalid_argument("assembler default odometry increment sigmas must be positive");
 }
@@ -54,13 +55,26 @@ FrameAssembler::Pending* FrameAssembler::slot(int64_t t_ns, const char* what) {
 }
 
 void FrameAssembler::addColour(int64_t t_ns, const cv::Mat& image) {
-  if (Pending* p = slot(t_ns, "colour")) p->colour = image;
+  if (Pending* p = slot(t_ns, "colour")) p->colour = image, boundPendingBytes();
 }
 void FrameAssembler::addDepth(int64_t t_ns, const cv::Mat& depth_m) {
-  if (Pending* p = slot(t_ns, "depth")) p->depth = depth_m;
+  if (Pending* p = slot(t_ns, "depth")) p->depth = depth_m, boundPendingBytes();
 }
 void FrameAssembler::addMask(int64_t t_ns, const cv::Mat& instance_ids) {
-  if (Pending* p = slot(t_ns, "mask")) p->mask = instance_ids;
+  if (Pending* p = slot(t_ns, "mask")) p->mask = instance_ids, boundPendingBytes();
+}
+
+void FrameAssembler::boundPendingBytes() {
+  auto bytes = [](const cv::Mat& m) { return m.empty() ? size_t{0} : m.total() * m.elemSize(); };
+  size_t total = 0;
+  for (const auto& [t, p] : pending_) total += bytes(p.colour) + bytes(p.depth) + bytes(p.mask);
+  // The oldest sets go first; the newest always stays (one set is what a frame needs).
+  while (total > params_.max_pending_bytes && pending_.size() > 1) {
+    const Pending& oldest = pending_.begin()->second;
+    total -= bytes(oldest.colour) + bytes(oldest.depth) + bytes(oldest.mask);
+    pending_.erase(pending_.begin());
+    ++counters_.dropped_queue_full;
+  }
 }
 void FrameAssembler::addOdometry(int64_t t_ns, const StampedPose& pose) {
   if (!pose.T_odom_camera.translation().allFinite() || !pose.T_odom_camera.rotation().coeffs().allFinite() ||

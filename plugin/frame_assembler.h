@@ -28,7 +28,10 @@ struct AssemblerParams {
   int64_t timeout_ns = 500'000'000;  // 0.5 s: five frames at 10 Hz
   // Longer than a sensor's gap between frames, so that only a stopped stream triggers it.
   int64_t silence_timeout_ns = 2'000'000'000;
-  int max_pending = 8;
+  int max_pending = 8;  // 1..64
+  // And at most this many bytes of pixels waiting: beyond, the oldest set is dropped and counted (a
+  // count alone let large images grow the backlog to gigabytes).
+  size_t max_pending_bytes = size_t{256} << 20;
   // Sigma of an odometry increment whose message gave no twist covariance ([m x3; rad x3]).
   Vec6 default_increment_sigma = Vec6::Constant(0.01);
   void validate() const;
@@ -82,6 +85,7 @@ class FrameAssembler {
   };
   Pending* slot(int64_t t_ns, const char* what);
   bool complete(const Pending& p) const;
+  void boundPendingBytes();
 
   AssemblerParams params_;
   WallClockNs wall_clock_ns_;

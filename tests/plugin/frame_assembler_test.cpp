@@ -15,6 +15,19 @@ StampedPose PoseAt(double z) {
   return p;
 }
 
+TEST(FrameAssembler, BoundsThePendingPixelsInBytesAsWellAsInSets) {
+  // --max-pending 1000 with 1 MB images grew to gigabytes: the bytes waiting are bounded too.
+  AssemblerParams params;
+  params.max_pending = 64;
+  params.max_pending_bytes = size_t{1} << 20;  // 1 MiB
+  FrameAssembler a(params, [] { return int64_t{0}; });
+  const cv::Mat big(300, 400, CV_8UC3, cv::Scalar(1));  // 360 kB: two fit, not three
+  for (int k = 0; k < 5; ++k) a.addColour(k * 100'000'000, big);
+  EXPECT_EQ(a.counters().dropped_queue_full, 3u);
+  params.max_pending = 65;
+  EXPECT_THROW(params.validate(), std::invalid_argument);
+}
+
 TEST(FrameAssembler, IncrementNoiseIsTheTwistSigmaTimesTheTimeBetweenFramesElseTheDefault) {
   AssemblerParams params;
   params.expect_odometry = true;

@@ -227,7 +227,7 @@ const std::string& LosslessProfiles() {
 std::vector<std::string> ServeArgs(int domain, const std::string& dataset, const std::string& out,
                                    const std::string& silence_ms = "30000") {
   return {"serve", "--domain", std::to_string(domain), "--profiles", LosslessProfiles(), "--calib", dataset + "/calib.txt",
-          "--out", out, "--status-every", "0", "--max-pending", "400", "--timeout-ms", "5000", "--silence-ms", silence_ms};
+          "--out", out, "--status-every", "0", "--max-pending", "64", "--max-pending-mb", "2048", "--timeout-ms", "5000", "--silence-ms", silence_ms};
 }
 
 // The same without shared memory: the publisher reaches serve over UDP, as a camera driver on another host.
