@@ -14,10 +14,15 @@ namespace dslam {
 namespace {
 
 std::atomic<bool> g_stop{false};
-extern "C" void OnStopSignal(int) { g_stop = true; }
+std::atomic<int> g_stop_signals{0};  // lock-free: safe to touch in a signal handler
+extern "C" void OnStopSignal(int) {
+  g_stop = true;
+  ++g_stop_signals;
+}
 
 void InstallStopHandlers() {
   g_stop = false;
+  g_stop_signals = 0;
   std::signal(SIGINT, OnStopSignal);
   std::signal(SIGTERM, OnStopSignal);
 }
@@ -91,8 +96,28 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
               << s.counters.last_rejection << (s.counters.last_rejection.empty() ? "" : ")") << std::endl;
       }
     }
-    out << "dslam serve: stopping" << std::endl;
-    node.shutdown(out);
+    out << "dslam serve: stopping (a second SIGINT or SIGTERM drops the frames still waiting)" << std::endl;
+    // A second signal while the backlog drains: drop it; the frames in progress finish and what was
+    // estimated is written as on a normal stop.
+    std::atomic<bool> shut_down{false};
+    std::thread second_signal([&] {
+      while (!shut_down) {
+        if (g_stop_signals >= 2) {
+          node.abandonBacklogs();
+          return;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      }
+    });
+    try {
+      node.shutdown(out);
+    } catch (...) {
+      shut_down = true;
+      second_signal.join();
+      throw;
+    }
+    shut_down = true;
+    second_signal.join();
     return 0;
   } catch (const std::exception& e) {
     err << "dslam serve: error: " << e.what() << std::endl;

@@ -57,6 +57,7 @@ void StagedPipeline::runFrontend() {
   std::optional<OdometryMeasurement> carried;
   while (std::optional<ImageFrame> frame = frames_.pop()) {
     if (abort_) return;
+    if (skip_) continue;
     try {
       if (carried && frame->odometry) frame->odometry = Compose(*carried, *frame->odometry);
       frame->frame_index = accepted;  // the back-end numbers frames 0, 1, 2, ... as they reach it
@@ -87,6 +88,7 @@ void StagedPipeline::runFrontend() {
 void StagedPipeline::runBackend() {
   while (std::optional<FrameMeasurement> m = measurements_.pop()) {
     if (abort_) return;
+    if (skip_) continue;
     try {
       const FrameEstimate estimate = backend_.add(&*m);
       if (callbacks_.on_estimate) callbacks_.on_estimate(estimate, *m);

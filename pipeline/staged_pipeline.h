@@ -56,6 +56,10 @@ class StagedPipeline {
   bool push(ImageFrame frame);
   // Processes everything pushed, joins the stages and returns ours' result; throws a stage's error.
   MethodResult finish();
+  // From any thread, also while finish() waits: the frames and measurements still queued are dropped
+  // instead of processed (what is in progress completes), so that finish() returns at once and flushes
+  // what was estimated. For a service asked twice to stop.
+  void skipQueued() { skip_ = true; }
 
  private:
   void runFrontend();
@@ -73,6 +77,7 @@ class StagedPipeline {
   std::mutex error_mutex_;
   std::exception_ptr error_;
   std::atomic<bool> abort_{false};  // the destructor: stop without draining
+  std::atomic<bool> skip_{false};   // skipQueued(): drop what is queued, still finish
   std::thread frontend_thread_, backend_thread_;
 };
 

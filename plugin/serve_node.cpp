@@ -132,6 +132,14 @@ class Vehicle {
     }
   }
 
+  // From any thread, also while stop() waits: drop the backlog (inbox, assembled sets, the pipeline's
+  // queues); the frame in progress completes and what was estimated is flushed as on a normal stop.
+  void abandonBacklog() {
+    abandon_ = true;
+    pipeline_->skipQueued();
+    wake_.notify_all();
+  }
+
   VehicleStatus status() const {
     std::lock_guard<std::mutex> lock(mutex_);
     VehicleStatus s = status_;
@@ -223,6 +231,7 @@ class Vehicle {
   // The intake thread: decodes samples (off Fast DDS' receive thread) and assembles frames.
   void runIntake() {
     while (std::optional<Sample> sample = inbox_.pop()) {
+      if (abandon_) continue;  // asked twice to stop: the backlog is dropped
       if (sample->role) {
         const ImageRole role = *sample->role;
         DecodedImage decoded = DecodeImage(sample->image, role);
@@ -266,6 +275,7 @@ class Vehicle {
         counters_changed = ProblemCount(countersLocked()) != published_problems_;
         if (frames.empty() && stopping_) return;
       }
+      if (abandon_) return;
       for (ImageFrame& frame : frames) pipeline_->push(std::move(frame));
       // Drops and rejections with no frame to follow (a stream that stopped, a stream of bad samples)
       // are reported too, stamped with the wall time.
@@ -343,6 +353,7 @@ class Vehicle {
   uint64_t published_problems_ = 0;
   BoundedQueue<Sample> inbox_;
   DirLock dir_lock_;          // this vehicle's folder is ours alone while we run
+  std::atomic<bool> abandon_{false};
   StreamingFileSink stream_;  // the results as they become final; rewritten whole at the end
   std::unique_ptr<StagedPipeline> pipeline_;
   std::optional<MethodResult> result_;  // once stopped
@@ -381,6 +392,10 @@ std::map<std::string, VehicleStatus> ServeNode::status() const {
   std::map<std::string, VehicleStatus> out;
   for (const auto& [name, v] : impl_->vehicles) out[name] = v->status();
   return out;
+}
+
+void ServeNode::abandonBacklogs() {
+  for (auto& [name, v] : impl_->vehicles) v->abandonBacklog();
 }
 
 void ServeNode::shutdown(std::ostream& log) {

@@ -42,6 +42,9 @@ class ServeNode {
   ServeNode& operator=(const ServeNode&) = delete;
 
   std::map<std::string, VehicleStatus> status() const;
+  // Thread-safe, also during shutdown(): the frames still waiting are dropped instead of processed, so
+  // that shutdown() returns as soon as the frames in progress are done (their estimates are written).
+  void abandonBacklogs();
   // Stops reading, finishes the frames already assembled, writes every vehicle's results
   // (WriteRunOutputs layout, ours, plus camera_ours_online.tum) and reports where.
   void shutdown(std::ostream& log);

@@ -264,6 +264,37 @@ TEST(ServeLoopback, EstimatesEqualTheRecordedRunAndSigtermWritesTheResults) {
   EXPECT_NE(test::ReadFile(test::TempPath("serve.log")).find("100 frames, results written to"), std::string::npos);
 }
 
+TEST(ServeLoopback, ASecondSignalDropsTheBacklogAndStillWritesWhatWasEstimated) {
+  // Under overload, a stop used to work through the whole backlog first (480 s with --max-pending 1000),
+  // ignoring further signals.
+  const std::string dataset = CityDataset(100, 1);
+  const int domain = test::DomainFor(test::DdsTestSlot::kLoopbackSecondSignal);
+  const std::string out = test::TempPath("serve_second_signal_out");
+  const std::string log = test::TempPath("serve_second_signal.log");
+  test::Process serve(ServeArgs(domain, dataset, out), log);
+  Listener listener(domain, "");
+  // Far faster than serve estimates: a backlog builds up.
+  test::Process publish(PublishArgs(domain, dataset, "200"), test::TempPath("publish_second_signal.log"));
+  ASSERT_EQ(publish.wait(120s), 0) << test::ReadFile(test::TempPath("publish_second_signal.log"));
+  ASSERT_TRUE(listener.waitFor(5, 120s)) << listener.summary();
+  serve.signal(SIGTERM);
+  std::this_thread::sleep_for(200ms);
+  serve.signal(SIGTERM);
+  ASSERT_EQ(serve.wait(120s), 0) << test::ReadFile(log);
+  const std::string text = test::ReadFile(log);
+  const size_t at = text.find(" frames, results written to");
+  ASSERT_NE(at, std::string::npos) << text;
+  const size_t start = text.rfind(' ', at - 1) + 1;
+  const int processed = std::stoi(text.substr(start, at - start));
+  EXPECT_GE(processed, 5) << text;
+  EXPECT_LT(processed, 100) << text;  // the backlog was dropped, not worked through
+  // What was estimated is on disk, whole: one pose per processed frame.
+  std::ifstream tum(out + "/default/camera_ours.tum");
+  int lines = 0;
+  for (std::string line; std::getline(tum, line);) lines += !line.empty() && line[0] != '#';
+  EXPECT_EQ(lines, processed);
+}
+
 TEST(ServeLoopback, SigkillLeavesEveryFrameThatLeftTheWindowOnDisk) {
   const std::string dataset = CityDataset(30, 1);
   const int domain = test::DomainFor(test::DdsTestSlot::kLoopbackSigkill);
