@@ -32,4 +32,18 @@ std::string FindInvalidMeasurement(const FrameMeasurement& frame) {
   return {};
 }
 
+ObjectMotionFit SummariseMotionFit(const SE3& H, const std::vector<Vec3>& src, const std::vector<Vec3>& dst,
+                                   const std::vector<bool>& inlier) {
+  ObjectMotionFit fit;
+  fit.H_camera_prev = H;
+  for (size_t i = 0; i < src.size(); ++i) {
+    if (!inlier[i]) continue;
+    fit.centroid_camera_prev += src[i];
+    fit.residual_sq_sum_m2 += (dst[i] - H * src[i]).squaredNorm();
+    ++fit.num_inliers;
+  }
+  if (fit.num_inliers > 0) fit.centroid_camera_prev /= static_cast<double>(fit.num_inliers);
+  return fit;
+}
+
 }  // namespace dslam

@@ -67,4 +67,9 @@ namespace dslam {
 // Empty when the frame is usable; otherwise a message naming the first bad value
 // (non-finite point or odometry, non-positive odometry sigma, duplicate object id).
 std::string FindInvalidMeasurement(const FrameMeasurement& frame);
+
+// The fit of motion H to the pairs (src[i] at k-1, dst[i] at k, camera k-1 coordinates) summarised over
+// its inliers: centroid at k-1, sum of squared residuals, count.
+ObjectMotionFit SummariseMotionFit(const SE3& H, const std::vector<Vec3>& src, const std::vector<Vec3>& dst,
+                                   const std::vector<bool>& inlier);
 }  // namespace dslam

@@ -86,14 +86,7 @@ std::optional<ObjectMotionTest> DynamicObjectClassifier::testObjectMotion(const 
     for (auto& p : curr_pts) p = camera.T_prev_curr * p;  // into camera k-1: what remains is the object's own motion
     const auto ransac = AlignRigidRansac(prev_pts, curr_pts, params_.object_ransac);
     if (!ransac) return std::nullopt;
-    fit = ObjectMotionFit{ransac->transform, Vec3::Zero(), 0, 0.0};
-    for (size_t i = 0; i < prev_pts.size(); ++i) {
-      if (!ransac->is_inlier[i]) continue;
-      fit->centroid_camera_prev += prev_pts[i];
-      fit->residual_sq_sum_m2 += (curr_pts[i] - ransac->transform * prev_pts[i]).squaredNorm();
-      ++fit->num_inliers;
-    }
-    fit->centroid_camera_prev /= static_cast<double>(fit->num_inliers);
+    fit = SummariseMotionFit(ransac->transform, prev_pts, curr_pts, ransac->is_inlier);
   }
   if (fit->num_inliers < params_.object_ransac.min_inliers) return std::nullopt;
   const double n = static_cast<double>(fit->num_inliers);

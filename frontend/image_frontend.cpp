@@ -61,20 +61,6 @@ double Median(std::vector<float> values) {
   return *mid;
 }
 
-ObjectMotionFit SummariseFit(const SE3& H, const std::vector<Vec3>& src, const std::vector<Vec3>& dst,
-                             const std::vector<bool>& inlier) {
-  ObjectMotionFit fit;
-  fit.H_camera_prev = H;
-  for (size_t i = 0; i < src.size(); ++i) {
-    if (!inlier[i]) continue;
-    fit.centroid_camera_prev += src[i];
-    fit.residual_sq_sum_m2 += (dst[i] - H * src[i]).squaredNorm();
-    ++fit.num_inliers;
-  }
-  if (fit.num_inliers > 0) fit.centroid_camera_prev /= static_cast<double>(fit.num_inliers);
-  return fit;
-}
-
 }  // namespace
 
 ImageFrontend::ImageFrontend(const FrontendParams& params, const PinholeCamera& camera)
@@ -223,7 +209,7 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
       stats.object_counts[object_id].motion_rejected = true;
     }
     for (size_t n = 0; n < indices.size(); ++n) keep[indices[n]] = fit && fit->is_inlier[n];
-    if (fit) fits[object_id] = SummariseFit(fit->transform, src, dst, fit->is_inlier);
+    if (fit) fits[object_id] = SummariseMotionFit(fit->transform, src, dst, fit->is_inlier);
   }
 
   std::vector<Track> tracks;
