@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <exception>
-#include <filesystem>
 #include <fstream>
 
 #include "output/object_summary.h"
@@ -34,7 +33,6 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
           << (dataset.groundTruth() ? "yes" : "no") << "; flow " << ToString(config.frontend.flow.method) << std::endl;
 
     ImageRunSummary summary;
-    std::filesystem::create_directories(options.out_dir);
     const std::string log_path = options.out_dir + "/frontend.csv";
     std::ofstream frame_log(log_path);
     if (!frame_log) throw std::runtime_error("cannot write " + log_path);

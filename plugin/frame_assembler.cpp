@@ -66,12 +66,12 @@ void FrameAssembler::addMask(int64_t t_ns, const cv::Mat& instance_ids) {
 
 void FrameAssembler::boundPendingBytes() {
   auto bytes = [](const cv::Mat& m) { return m.empty() ? size_t{0} : m.total() * m.elemSize(); };
+  auto set_bytes = [&](const Pending& p) { return bytes(p.colour) + bytes(p.depth) + bytes(p.mask); };
   size_t total = 0;
-  for (const auto& [t, p] : pending_) total += bytes(p.colour) + bytes(p.depth) + bytes(p.mask);
+  for (const auto& [t, p] : pending_) total += set_bytes(p);
   // The oldest sets go first; the newest always stays (one set is what a frame needs).
   while (total > params_.max_pending_bytes && pending_.size() > 1) {
-    const Pending& oldest = pending_.begin()->second;
-    total -= bytes(oldest.colour) + bytes(oldest.depth) + bytes(oldest.mask);
+    total -= set_bytes(pending_.begin()->second);
     pending_.erase(pending_.begin());
     ++counters_.dropped_queue_full;
   }
