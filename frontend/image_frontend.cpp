@@ -7,6 +7,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "frontend/mask_box_prediction.h"
+
 namespace dslam {
 namespace {
 
@@ -122,10 +124,19 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
     std::vector<cv::Point2f> prev_px;
     prev_px.reserve(tracks_.size());
     for (const Track& t : tracks_) prev_px.push_back(t.px);
-    const FlowResult flow = flow_.track(prev_gray_, gray, prev_px, prev_flow_to_next_, predictPixels(frame.odometry, label_boxes));
+    const PixelPrediction prediction = predictPixels(frame.odometry, label_boxes);
+    FlowResult flow = flow_.track(prev_gray_, gray, prev_px, prev_flow_to_next_, prediction.px);
+    resolveStillHypothesis(gray, prev_px, prediction, &flow, &stats.ambiguous);
     std::vector<float> fb;
     for (size_t i = 0; i < tracks_.size(); ++i) {
-      if (!flow.ok[i]) continue;
+      // A point that its box takes out of view is gone: on a repetitive texture the flow search still
+      // finds a consistent match near its old position, which reads as a phantom motion (a parked car
+      // at the image border "moving" with the camera). Tracks of a known motion are checked the same
+      // way once the camera's motion is known (step 4b).
+      if (!flow.ok[i] || prediction.leaves_view[i]) {
+        stats.left_view += flow.ok[i] && prediction.leaves_view[i];
+        continue;
+      }
       Track t = tracks_[i];
       t.px = flow.points[i];
       moved.push_back(t);
@@ -197,7 +208,11 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
     if (kept[i].object_id != 0) object_tracks[kept[i].object_id].push_back(i);
   const SE3 T_prev_curr_or_identity = T_prev_curr.value_or(SE3());
   std::map<int, ObjectMotionFit> fits;
-  for (const auto& [object_id, indices] : object_tracks) {
+  for (auto& [object_id, indices] : object_tracks) {
+    if (T_prev_curr) {
+      for (size_t i : indices) keep[i] = 0;  // those that stay are decided by the fit below
+      dropLeavingTracks(object_id, *T_prev_curr, kept, &indices, &stats.left_view);
+    }
     std::vector<Vec3> src, dst;
     for (size_t i : indices) {
       src.push_back(kept[i].p_camera);
@@ -307,13 +322,13 @@ bool ImageFrontend::acceptObjectMotion(int object_id, const SE3& motion, const s
   return true;
 }
 
-std::vector<cv::Point2f> ImageFrontend::predictPixels(const std::optional<OdometryMeasurement>& odometry,
-                                                      const std::map<int, cv::Rect>& label_boxes) const {
-  if (params_.flow.method != FlowMethod::kLucasKanade) return {};
+ImageFrontend::PixelPrediction ImageFrontend::predictPixels(const std::optional<OdometryMeasurement>& odometry,
+                                                           const std::map<int, cv::Rect>& label_boxes) const {
   const std::optional<SE3> camera = odometry ? std::optional<SE3>(odometry->T_prev_curr) : last_camera_motion_;
   const SE3 T_curr_prev = camera.value_or(SE3()).inverse();
-  std::vector<cv::Point2f> predicted;
-  predicted.reserve(tracks_.size());
+  PixelPrediction prediction;
+  prediction.px.reserve(tracks_.size());
+  prediction.leaves_view.reserve(tracks_.size());
   for (const Track& t : tracks_) {
     Vec3 p = t.p_camera;  // previous camera frame
     if (t.object_id != 0) {
@@ -322,9 +337,16 @@ std::vector<cv::Point2f> ImageFrontend::predictPixels(const std::optional<Odomet
       } else if (params_.association.mask_ids_tracked) {
         const auto before = prev_label_boxes_.find(t.object_id), now = label_boxes.find(t.object_id);
         if (before != prev_label_boxes_.end() && now != label_boxes.end()) {
-          const cv::Rect &a = before->second, &b = now->second;
-          predicted.emplace_back(b.x + (t.px.x - a.x) * b.width / static_cast<float>(a.width),
-                                 b.y + (t.px.y - a.y) * b.height / static_cast<float>(a.height));
+          const cv::Point2f px = PredictFromMaskBoxes(before->second, now->second, t.px, camera_.width, camera_.height);
+          const bool inside = px.x >= 0 && px.y >= 0 && px.x <= camera_.width - 1 && px.y <= camera_.height - 1;
+          if (camera && inside) {
+            const Vec3 still = T_curr_prev * p;
+            const Vec2 uv = still.z() > 0.1 ? camera_.project(still) : Vec2(-1.0, -1.0);
+            prediction.from_box.push_back(prediction.px.size());
+            prediction.px_if_still.emplace_back(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
+          }
+          prediction.px.push_back(inside ? px : t.px);
+          prediction.leaves_view.push_back(!inside);
           continue;
         }
       }
@@ -333,9 +355,77 @@ std::vector<cv::Point2f> ImageFrontend::predictPixels(const std::optional<Odomet
     const Vec2 uv = p.z() > 0.1 ? camera_.project(p) : Vec2(t.px.x, t.px.y);
     const bool inside = uv.allFinite() && uv.x() >= 0 && uv.y() >= 0 && uv.x() <= camera_.width - 1 &&
                         uv.y() <= camera_.height - 1;
-    predicted.push_back(inside ? cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y())) : t.px);
+    prediction.px.push_back(inside ? cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y())) : t.px);
+    prediction.leaves_view.push_back(0);
   }
-  return predicted;
+  if (params_.flow.method != FlowMethod::kLucasKanade) {  // the dense methods need no start
+    prediction.px.clear();
+    prediction.from_box.clear();
+    prediction.px_if_still.clear();
+  }
+  return prediction;
+}
+
+void ImageFrontend::dropLeavingTracks(int object_id, const SE3& T_prev_curr, const std::vector<Track>& kept,
+                                      std::vector<size_t>* indices, int* left_view) const {
+  const auto memory = last_object_motion_.find(object_id);
+  if (memory == last_object_motion_.end()) return;
+  const SE3 T_curr_prev = T_prev_curr.inverse();
+  const auto leaves = [&](size_t i) {
+    const Vec3 p = T_curr_prev * (memory->second.motion * kept[i].p_camera);
+    const Vec2 uv = camera_.project(p);
+    return !(p.z() > 0.1 && uv.x() >= 0 && uv.y() >= 0 && uv.x() <= camera_.width - 1 && uv.y() <= camera_.height - 1);
+  };
+  const size_t before = indices->size();
+  indices->erase(std::remove_if(indices->begin(), indices->end(), leaves), indices->end());
+  *left_view += static_cast<int>(before - indices->size());
+}
+
+void ImageFrontend::resolveStillHypothesis(const cv::Mat& gray, const std::vector<cv::Point2f>& prev_px,
+                                           const PixelPrediction& prediction, FlowResult* flow, int* ambiguous) {
+  // A still start is confirmed when the flow stays within this of it (a still object's prediction is
+  // exact up to the depth noise); two matches closer than this are the same.
+  constexpr float kSamePx = 2.0f;
+  // The box start is rough (the box is that of the visible part), but a match farther from it than half
+  // the predicted move is a track that went back where it was: held by an occluding edge or by the
+  // image border.
+  constexpr float kBoxSlackPx = 4.0f;
+  for (size_t i : prediction.from_box) {
+    const float predicted_move = static_cast<float>(cv::norm(prediction.px[i] - prev_px[i]));
+    if (flow->ok[i] && cv::norm(flow->points[i] - prediction.px[i]) > 0.5f * predicted_move + kBoxSlackPx) {
+      flow->ok[i] = 0;
+      ++*ambiguous;
+    }
+  }
+  std::vector<cv::Point2f> starts, still_px;
+  std::vector<size_t> index;
+  for (size_t j = 0; j < prediction.from_box.size(); ++j) {
+    const cv::Point2f& uv = prediction.px_if_still[j];
+    if (!(uv.x >= 0 && uv.y >= 0 && uv.x <= camera_.width - 1 && uv.y <= camera_.height - 1)) {
+      // Still, it would have left the view; moving as its box does, it stays: unknown, and a match
+      // found inside may be the wrong one (an image-border strip of a parked car).
+      *ambiguous += flow->ok[prediction.from_box[j]];
+      flow->ok[prediction.from_box[j]] = 0;
+      continue;
+    }
+    starts.push_back(prev_px[prediction.from_box[j]]);
+    still_px.push_back(uv);
+    index.push_back(prediction.from_box[j]);
+  }
+  if (index.empty()) return;
+  const FlowResult still = flow_.track(prev_gray_, gray, starts, cv::Mat(), still_px);
+  for (size_t j = 0; j < index.size(); ++j) {
+    if (!still.ok[j] || cv::norm(still.points[j] - still_px[j]) > kSamePx) continue;  // not still
+    const size_t i = index[j];
+    if (flow->ok[i] && cv::norm(flow->points[i] - still.points[j]) > kSamePx) {
+      flow->ok[i] = 0;
+      ++*ambiguous;
+      continue;
+    }
+    flow->ok[i] = 1;
+    flow->points[i] = still.points[j];
+    flow->fb_error_px[i] = still.fb_error_px[j];
+  }
 }
 
 void ImageFrontend::replenish(const cv::Mat& gray, const cv::Mat& depth, const cv::Mat& labels,

@@ -35,6 +35,8 @@ struct FrontendFrameStats {
   bool camera_from_pnp = false;
   bool odometry_rejected = false;  // the odometry contradicted the PnP motion (frontend.odometry_gate_chi2)
   double median_fb_error_px = 0.0;  // over the points the flow kept
+  int left_view = 0;  // object tracks ended because their predicted motion took them out of the image
+  int ambiguous = 0;  // object tracks ended because a still and a moving start both matched (see ImageFrontend)
   std::vector<int> mask_labels;     // instance labels at least min_mask_area_pct of the image
   struct ObjectCounts {
     int flowed = 0;   // points the flow carried into this frame (forward-backward consistent)
@@ -73,8 +75,6 @@ class ImageFrontend {
   FlowTracker flow_;
   ObjectAssociator associator_;
 
-  // Where the motion model expects each track in the new frame (constant velocity for the camera and
-  // for each object), to start the flow search there.
   // Whether `motion` of the object's inlier points p_prev (previous camera frame) stays within the
   // acceleration bound of its last known motion; nullopt when there is none to compare with.
   std::optional<bool> withinAccelerationBound(int object_id, const SE3& motion, const std::vector<Vec3>& p_prev,
@@ -84,11 +84,34 @@ class ImageFrontend {
   // is dropped (the object really changed its motion, or the memory was wrong).
   bool acceptObjectMotion(int object_id, const SE3& motion, const std::vector<Vec3>& p_prev,
                           const std::vector<bool>& inlier, int frame_index);
-  // An object without a known motion (new, or back after an occlusion) is predicted from its mask's
-  // bounding box in both frames when the segmenter's ids are tracked: a car coming the other way grows
-  // and moves too fast for flow started from the old position.
-  std::vector<cv::Point2f> predictPixels(const std::optional<OdometryMeasurement>& odometry,
-                                         const std::map<int, cv::Rect>& label_boxes) const;
+  // Where the motion model expects each track in the new frame (constant velocity for the camera and
+  // for each object), to start the flow search there. An object without a known motion (new, or back
+  // after an occlusion) is predicted from its mask's bounding box in both frames when the segmenter's
+  // ids are tracked: a car coming the other way grows and moves too fast for flow started from the old
+  // position.
+  // An object's tracks predicted from its box are also searched from where they would be if the object
+  // stood still (the camera's motion alone): see resolveStillHypothesis.
+  struct PixelPrediction {
+    std::vector<cv::Point2f> px;       // one per track (LK only; empty for the dense methods)
+    std::vector<uint8_t> leaves_view;  // one per track: its object's box takes it out of the image
+    std::vector<size_t> from_box;      // tracks predicted from their object's box (LK only)
+    std::vector<cv::Point2f> px_if_still;  // one per from_box entry
+  };
+  // Checks of a box-predicted track, whose object's motion is unknown. A parked car passing the image
+  // border, or sliding behind a car that moves with us, has tracks that the flow drags onto a wrong but
+  // forward-backward consistent match near their old pixel. So: a match farther from the box start
+  // than half the box's move ends the track; the flow also starts from where the point would be if the
+  // object stood still, and a match that stays there is taken; when both starts give consistent but
+  // different matches, or standing still would have taken the point out of view, the track ends.
+  // Ended tracks are counted in `ambiguous`.
+  // Removes from `indices` (into `kept`) the tracks of an object that its last known motion and the
+  // camera's motion take out of the image: a match found for them is a wrong one.
+  void dropLeavingTracks(int object_id, const SE3& T_prev_curr, const std::vector<Track>& kept,
+                         std::vector<size_t>* indices, int* left_view) const;
+  void resolveStillHypothesis(const cv::Mat& gray, const std::vector<cv::Point2f>& prev_px,
+                              const PixelPrediction& prediction, FlowResult* flow, int* ambiguous);
+  PixelPrediction predictPixels(const std::optional<OdometryMeasurement>& odometry,
+                                const std::map<int, cv::Rect>& label_boxes) const;
 
   std::vector<Track> tracks_;
   std::map<int, cv::Rect> prev_label_boxes_;  // mask label -> bounding box in the previous frame
