@@ -108,6 +108,7 @@ struct ObjectTransition {
   std::vector<int> prev_point_vars;  // the inlier tracks' variables at k-1 (centroid c_{k-1})
   // Set once the variables at k-1 leave the smoother's window (their final centroid).
   std::optional<Vec3> centroid_prev_world;
+  bool moving = true;  // the classifier's report (ObjectObservation::moving); false: reported standing
 };
 
 inline SE3 MotionVariable::worldMotion() const {

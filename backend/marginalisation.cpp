@@ -59,11 +59,13 @@ ObjectMotionEstimate MotionEstimateOf(const FactorGraph& graph, const ObjectTran
   ObjectMotionEstimate m;
   m.object_id = tr.object_id;
   m.frame = tr.frame;
-  m.is_dynamic = tr.is_dynamic;
-  if (tr.is_dynamic) m.H_world = graph.motions.at(tr.motion_var).worldMotion();
+  // Reported as estimated only when the classifier calls it moving; a jittering parked car is estimated
+  // with its own motion (so that it does not pull the camera) but reported standing.
+  m.is_dynamic = tr.is_dynamic && tr.moving;
+  if (m.is_dynamic) m.H_world = graph.motions.at(tr.motion_var).worldMotion();
   const std::optional<Vec3> centroid = tr.centroid_prev_world ? tr.centroid_prev_world : Centroid(graph, tr.prev_point_vars);
   m.centroid_prev_world = centroid.value_or(Vec3::Zero());
-  m.velocity_world_per_frame = tr.is_dynamic ? ObjectVelocityPerFrame(m.H_world, m.centroid_prev_world) : Vec3::Zero();
+  m.velocity_world_per_frame = m.is_dynamic ? ObjectVelocityPerFrame(m.H_world, m.centroid_prev_world) : Vec3::Zero();
   m.speed_mps = SpeedMps(m.velocity_world_per_frame, frame_rate_hz);
   return m;
 }

@@ -35,6 +35,10 @@ struct ObjectObservation {
   // Set by the front-end's scene-flow test over the transition from the previous frame; an object
   // first seen in this frame stays dynamic (it has no previous frame to compare with).
   bool is_dynamic = true;
+  // The classifier's report: dynamic and moving over its recent transitions. A dynamic object that is
+  // not moving (a parked car whose measurements jitter) keeps its own motion in the estimator but is
+  // reported standing, with no speed.
+  bool moving = true;
   std::optional<ObjectMotionFit> motion_fit;  // from an image front-end; absent for other sources
 };
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -22,6 +23,10 @@ void MatchTracks(const std::vector<PointObservation>& prev, const std::vector<Po
     curr_pts->push_back(c.p_camera);
   }
 }
+// A transition this many times faster than the speed threshold (and significant) is reported moving
+// whatever the window says: a parked car's measurement jitter stays well below it (KITTI's labels: up
+// to 2.5 times), and missing a moving car costs more than a moment's speed on a parked one.
+constexpr double kClearMotionFactor = 3.0;
 // Floor of a displacement's standard deviation: unmodelled effects (and exact synthetic data).
 constexpr double kMinDisplacementSigmaM = 1e-3;
 
@@ -41,11 +46,14 @@ void ClassifierParams::validate() const {
   if (!(static_test_chi2 > 0.0)) throw std::invalid_argument("classifier.static_test_chi2 must be positive");
   if (min_static_transitions < 1) throw std::invalid_argument("classifier.min_static_transitions must be >= 1");
   if (min_static_inliers < 3) throw std::invalid_argument("classifier.min_static_inliers must be >= 3");
+  if (!(motion_window_s >= 0.0 && motion_window_s <= 10.0))
+    throw std::invalid_argument("classifier.motion_window_s must be in [0, 10] seconds");
 }
 
 DynamicObjectClassifier::DynamicObjectClassifier(const ClassifierParams& params, double frame_rate_hz)
     : params_(params), frame_rate_hz_(frame_rate_hz) {
   params_.validate();
+  window_transitions_ = std::max(1, static_cast<int>(std::lround(params_.motion_window_s * frame_rate_hz_)));
 }
 
 CameraMotionEstimate DynamicObjectClassifier::cameraMotion(const FrameMeasurement& prev,
@@ -102,25 +110,55 @@ std::optional<ObjectMotionTest> DynamicObjectClassifier::testObjectMotion(const 
   const double variance = sigma_points_sq + camera_sq + kMinDisplacementSigmaM * kMinDisplacementSigmaM;
   test.chi2 = std::isfinite(variance) && variance > 0.0 ? displacement.squaredNorm() / variance : 0.0;
   test.significant = test.chi2 > params_.static_test_chi2;
+  test.displacement_camera_prev = displacement;
+  test.variance_m2 = variance;
   return test;
+}
+
+bool DynamicObjectClassifier::movingOverWindow(const Window& window) const {
+  Vec3 sum = Vec3::Zero();
+  double variance = 0.0;
+  for (size_t i = 0; i < window.displacement.size(); ++i) sum += window.displacement[i], variance += window.variance_m2[i];
+  const double n = static_cast<double>(window.displacement.size());
+  const double speed_mps = sum.norm() * frame_rate_hz_ / n;
+  // An infinite variance (no camera motion known) leaves the speed alone to decide.
+  const bool significant = !std::isfinite(variance) || sum.squaredNorm() > params_.static_test_chi2 * variance;
+  return speed_mps >= params_.dynamic_speed_threshold_mps && significant;
 }
 
 void DynamicObjectClassifier::label(const FrameMeasurement& prev, FrameMeasurement* curr) {
   const CameraMotionEstimate camera = cameraMotion(prev, *curr);
   std::map<int, int> streaks;
+  std::map<int, Window> windows;
   for (auto& obj : curr->objects) {
-    bool still = false;
+    bool still = false, clearly_moving = false;
+    std::optional<bool> moving;
     for (const auto& before : prev.objects) {
       if (before.object_id != obj.object_id) continue;
-      const auto test = testObjectMotion(before, obj, camera);
-      still = test && test->speed_mps < params_.dynamic_speed_threshold_mps && !test->significant;
+      Window window = windows_.count(obj.object_id) ? windows_.at(obj.object_id) : Window{};
+      if (const auto test = testObjectMotion(before, obj, camera)) {
+        still = test->speed_mps < params_.dynamic_speed_threshold_mps && !test->significant;
+        // Clearly moving on its own: a wrong fit in the window (a re-acquired track) must not hide it.
+        clearly_moving = test->significant && test->speed_mps >= kClearMotionFactor * params_.dynamic_speed_threshold_mps;
+        window.displacement.push_back(R_first_camera_ * test->displacement_camera_prev);
+        window.variance_m2.push_back(test->variance_m2);
+        while (static_cast<int>(window.displacement.size()) > window_transitions_) {
+          window.displacement.pop_front();
+          window.variance_m2.pop_front();
+        }
+      }
+      if (!window.displacement.empty()) moving = movingOverWindow(window);
+      windows[obj.object_id] = std::move(window);
     }
     const auto it = static_streak_.find(obj.object_id);
     const int streak = still ? (it == static_streak_.end() ? 0 : it->second) + 1 : 0;
     streaks[obj.object_id] = streak;
     obj.is_dynamic = streak < params_.min_static_transitions;
+    obj.moving = obj.is_dynamic && (clearly_moving || moving.value_or(true));
   }
   static_streak_ = std::move(streaks);  // objects not seen in this frame start over
+  windows_ = std::move(windows);
+  R_first_camera_ = R_first_camera_ * camera.T_prev_curr.rotationMatrix();
 }
 
 }  // namespace dslam

@@ -1,12 +1,19 @@
 #pragma once
-// Static/dynamic decision per object and frame transition by camera-compensated scene flow:
-// the object's points at k are brought into camera k-1 with the relative camera motion (from the
-// static points by 3D-3D RANSAC when there are enough, else the odometry), then the object's own
-// rigid motion is fitted. The object is static only if its centroid moved slower than the speed
-// threshold AND its displacement is not statistically significant given the point noise and the
-// camera motion's uncertainty (a chi-square test): an object that jitters by a few centimetres
-// (e.g. a replayed KITTI label) must not be merged into the static map.
+// Static/dynamic decisions per object and frame transition by camera-compensated scene flow: the
+// object's points at k are brought into camera k-1 with the relative camera motion (from the static
+// points by 3D-3D RANSAC when there are enough, else the odometry), then the object's own rigid motion
+// is fitted. Two decisions come out of it:
+//  - for the estimator (is_dynamic): the object's points may serve as static structure only if its
+//    centroid moved slower than the speed threshold AND its displacement is not statistically
+//    significant given the point noise and the camera motion's uncertainty (a chi-square test), over
+//    consecutive transitions: an object that jitters by a few centimetres (e.g. a replayed KITTI label)
+//    must not be merged into the static map, where it pulls the camera;
+//  - for the report (moving): the object moves only if its centroid's displacement summed over the
+//    last `motion_window_s` is both faster than the speed threshold and significant. Over a window a
+//    real motion adds up while a parked car's jitter cancels out: such a car is estimated with its own
+//    motion but reported standing, with no speed.
 
+#include <deque>
 #include <map>
 #include <optional>
 
@@ -22,6 +29,7 @@ struct ClassifierParams {
   // slightly moving object must not merge it into the static map.
   int min_static_transitions = 2;
   int min_static_inliers = 10;  // below: fall back to odometry for the camera motion
+  double motion_window_s = 0.5;  // the displacement tested is the sum over the transitions this long
   RansacParams static_ransac{100, 0.2, 3, 11};
   RansacParams object_ransac{100, 0.3, 4, 13};
 
@@ -39,6 +47,8 @@ struct ObjectMotionTest {
   double speed_mps = 0.0;  // of the centroid, camera motion compensated
   double chi2 = 0.0;       // squared displacement over its variance if the object were static
   bool significant = false;
+  Vec3 displacement_camera_prev = Vec3::Zero();  // of the centroid over the transition, camera k-1 axes
+  double variance_m2 = 0.0;                      // per axis, of that displacement if the object were static
 };
 
 class DynamicObjectClassifier {
@@ -50,14 +60,26 @@ class DynamicObjectClassifier {
   // The object's own motion between the frames; nullopt with too few consistent tracks.
   std::optional<ObjectMotionTest> testObjectMotion(const ObjectObservation& prev, const ObjectObservation& curr,
                                                    const CameraMotionEstimate& camera) const;
-  // Sets is_dynamic of every object of `curr`; objects not seen in `prev` stay dynamic. Call once per
-  // frame in order: it counts each object's consecutive still transitions.
+  // Sets is_dynamic and moving of every object of `curr`; objects not seen in `prev` stay dynamic and
+  // moving. Call once per frame in order: it counts each object's consecutive still transitions and
+  // keeps its last transitions.
   void label(const FrameMeasurement& prev, FrameMeasurement* curr);
 
  private:
+  // The object's last transitions (at most the window), displacements in the axes of the first camera.
+  struct Window {
+    std::deque<Vec3> displacement;
+    std::deque<double> variance_m2;
+  };
+  // Whether the summed displacement over the object's window is fast and significant.
+  bool movingOverWindow(const Window& window) const;
+
   ClassifierParams params_;
   double frame_rate_hz_;
+  int window_transitions_ = 1;
+  Mat3 R_first_camera_ = Mat3::Identity();  // camera k-1's rotation from the first camera's axes
   std::map<int, int> static_streak_;  // object id -> consecutive still transitions up to the last frame
+  std::map<int, Window> windows_;     // object id -> its last transitions (objects seen in the last frame)
 };
 
 }  // namespace dslam

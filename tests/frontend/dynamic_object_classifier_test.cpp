@@ -115,6 +115,47 @@ TEST(DynamicObjectClassifier, SignificantSmallMotionIsDynamicNoiseAloneIsNot) {
   EXPECT_GE(static_count, 19);
 }
 
+TEST(DynamicObjectClassifier, AJitteringParkedObjectKeepsItsOwnMotionButIsReportedStanding) {
+  // 7 cm back and forth every frame (0.7 m/s a frame, significant through 5 mm noise): never merged
+  // into the static map, but over the half-second window the jitter cancels and it is not moving.
+  // The same steps all in one direction add up: moving.
+  for (const bool steady : {false, true}) {
+    DynamicObjectClassifier c(ClassifierParams{}, 10.0);
+    int moving = 0, dynamic = 0;
+    for (int k = 0; k < 20; ++k) {
+      const double step = steady || k % 2 == 0 ? 0.07 : -0.07;
+      TwoFrames f = MakeFrames(SE3(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, step)), true, false);
+      AddNoise(&f.prev, 0.005, 100 + 2 * k);
+      AddNoise(&f.curr, 0.005, 101 + 2 * k);
+      c.label(f.prev, &f.curr);
+      dynamic += f.curr.objects[0].is_dynamic;
+      moving += f.curr.objects[0].moving;
+    }
+    EXPECT_EQ(dynamic, 20) << (steady ? "steady" : "jitter");
+    if (steady)
+      EXPECT_EQ(moving, 20);
+    else
+      EXPECT_LE(moving, 1);  // the first transition alone cannot tell
+  }
+}
+
+TEST(DynamicObjectClassifier, AClearlyMovingTransitionIsReportedMovingWhateverTheWindowSays) {
+  DynamicObjectClassifier c(ClassifierParams{}, 10.0);
+  // A wrong fit (1 m/s backwards) in the window, then 2 m/s forwards: the window's sum is small, but
+  // the transition alone is three times the speed threshold.
+  TwoFrames wrong = MakeFrames(SE3(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, -0.1)), true, false);
+  c.label(wrong.prev, &wrong.curr);
+  TwoFrames fast = MakeFrames(SE3(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, 0.2)), true, false);
+  c.label(fast.prev, &fast.curr);
+  EXPECT_TRUE(fast.curr.objects[0].moving);
+  // A static object is never reported moving.
+  DynamicObjectClassifier still(OneStep(), 10.0);
+  TwoFrames parked = MakeFrames(SE3::Identity(), true, false);
+  still.label(parked.prev, &parked.curr);
+  EXPECT_FALSE(parked.curr.objects[0].is_dynamic);
+  EXPECT_FALSE(parked.curr.objects[0].moving);
+}
+
 TEST(DynamicObjectClassifier, TakesTheFrontEndsMotionFitInsteadOfFittingAgain) {
   // The points say parked, the front-end's fit (which the classifier trusts) says 0.3 m per frame.
   TwoFrames f = MakeFrames(SE3::Identity(), true, false);
@@ -161,6 +202,9 @@ TEST(DynamicObjectClassifier, RejectsBadParameters) {
   EXPECT_THROW(DynamicObjectClassifier(p, 10.0), std::invalid_argument);
   p = ClassifierParams{};
   p.min_static_transitions = 0;
+  EXPECT_THROW(DynamicObjectClassifier(p, 10.0), std::invalid_argument);
+  p = ClassifierParams{};
+  p.motion_window_s = -0.1;
   EXPECT_THROW(DynamicObjectClassifier(p, 10.0), std::invalid_argument);
 }
 
