@@ -17,6 +17,11 @@ struct ObjectMotionEstimate {
   Vec3 centroid_prev_world = Vec3::Zero();
   Vec3 velocity_world_per_frame = Vec3::Zero();  // metres per frame
   double speed_mps = 0.0;
+  // Marginal covariance of H from the smoother's information, over the tangent [translation;
+  // rotation] of H expressed about the object's anchor (its points' centroid when the motion was
+  // created), the rotation perturbed on the right; zero when unknown (batch, or reported standing).
+  Mat6 covariance = Mat6::Zero();
+  double speed_sigma_mps = 0.0;  // of speed_mps, from `covariance`; 0 when unknown
 };
 
 struct PointEstimate {

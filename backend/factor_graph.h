@@ -41,6 +41,9 @@ struct PointVariable {
 struct MotionVariable {
   PoseBlock H_anchor{};
   Vec3 anchor_world = Vec3::Zero();
+  // Marginal covariance of the block's tangent [translation; rotation] (the translation is that of
+  // the anchor, the rotation perturbs on the right) from the last solve; zero when unknown.
+  Mat6 covariance = Mat6::Zero();
   int object_id = 0;
   int first_frame = 0;
   int last_frame = 0;

@@ -55,6 +55,22 @@ Mat3 MeasurementInformation(const Mat3& R, const Vec3& t, const PointMeasurement
 
 }  // namespace
 
+double SpeedSigmaMps(const MotionVariable& motion, const Vec3& centroid_prev_world, const Vec3& velocity_per_frame,
+                     double frame_rate_hz) {
+  // v = t_H + (I - R)(a - c) for the block (R, t_H) about the anchor a; perturbed by [dt; dphi] (dphi on
+  // the right), dv = dt + R [a - c]x dphi. The centroid's own uncertainty is left out: its effect is
+  // (I - R) times it, small for the rotations of a frame.
+  const Mat3 R = BlockRotationMatrix(motion.H_anchor.data());
+  Eigen::Matrix<double, 3, 6> J;
+  J << Mat3::Identity(), R * Hat(motion.anchor_world - centroid_prev_world);
+  const Mat3 cov_v = J * motion.covariance * J.transpose();
+  const double speed = velocity_per_frame.norm();
+  // Along the velocity; for a speed near zero (norm of a 3D Gaussian), the mean per-axis variance.
+  const double var = speed > 1e-9 ? velocity_per_frame.dot(cov_v * velocity_per_frame) / (speed * speed)
+                                  : cov_v.trace() / 3.0;
+  return std::sqrt(std::max(0.0, var)) * frame_rate_hz;
+}
+
 ObjectMotionEstimate MotionEstimateOf(const FactorGraph& graph, const ObjectTransition& tr, double frame_rate_hz) {
   ObjectMotionEstimate m;
   m.object_id = tr.object_id;
@@ -67,6 +83,11 @@ ObjectMotionEstimate MotionEstimateOf(const FactorGraph& graph, const ObjectTran
   m.centroid_prev_world = centroid.value_or(Vec3::Zero());
   m.velocity_world_per_frame = m.is_dynamic ? ObjectVelocityPerFrame(m.H_world, m.centroid_prev_world) : Vec3::Zero();
   m.speed_mps = SpeedMps(m.velocity_world_per_frame, frame_rate_hz);
+  if (m.is_dynamic) {
+    const MotionVariable& motion = graph.motions.at(tr.motion_var);
+    m.covariance = motion.covariance;
+    m.speed_sigma_mps = SpeedSigmaMps(motion, m.centroid_prev_world, m.velocity_world_per_frame, frame_rate_hz);
+  }
   return m;
 }
 

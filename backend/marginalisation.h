@@ -32,6 +32,11 @@ namespace dslam {
 ObjectMotionEstimate MotionEstimateOf(const FactorGraph& graph, const ObjectTransition& transition,
                                       double frame_rate_hz);
 
+// Standard deviation of the speed of an object's centroid under `motion`, from the motion's marginal
+// covariance (metres per second; 0 when the covariance is unknown).
+double SpeedSigmaMps(const MotionVariable& motion, const Vec3& centroid_prev_world, const Vec3& velocity_per_frame,
+                     double frame_rate_hz);
+
 // Which objects leave with a frame. An object whose motion is one variable for its whole track (constant
 // mode) keeps its per-frame points for the whole camera window: eliminating them earlier would hold its
 // cameras and its motion at estimates that are still moving, and that motion is what ties its frames

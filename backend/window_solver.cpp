@@ -8,6 +8,7 @@
 #include <cmath>
 #include <functional>
 #include <numeric>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
@@ -20,7 +21,6 @@
 namespace dslam {
 namespace {
 
-using Mat6 = Eigen::Matrix<double, 6, 6>;
 using MatX = Eigen::MatrixXd;
 using VecX = Eigen::VectorXd;
 
@@ -172,14 +172,14 @@ class WindowProblem {
 
   // Builds and solves the damped normal equations; false when the reduced system is not positive definite.
   bool computeStep(double lambda, VecX* dx, std::vector<Vec3>* dp) {
-    const int n = 6 * static_cast<int>(poses_.size());
-    MatX S = MatX::Zero(n, n);
-    VecX b = VecX::Zero(n);
-    VecX diag = VecX::Zero(n);  // undamped diagonal of the pose-pose block, for the damping
-    for (Group& g : groups_) eliminate(g, lambda, &S, &b, &diag);
-    for (const auto& f : pose_factors_) addPoseFactor(f, &S, &b, &diag);
-    for (int i = 0; i < n; ++i) S(i, i) += lambda * std::max(diag[i], 1e-9) + 1e-12;
-    if (!solveReduced(S, b, dx)) return false;
+    MatX S;
+    VecX b;
+    buildReduced(lambda, &S, &b);
+    ReducedSystem reduced(6 * num_cameras_);
+    last_reduced_.reset();
+    if (!reduced.factorise(S)) return false;
+    *dx = reduced.solve(-b);
+    last_reduced_ = std::move(reduced);
     dp->assign(points_.size(), Vec3::Zero());
     for (const Group& g : groups_) {
       VecX dx_local(6 * g.poses.size());
@@ -190,54 +190,117 @@ class WindowProblem {
     return dx->allFinite();
   }
 
-  // Solves S dx = -b. The motions of different objects are not coupled (cameras couple everything), so
-  // each object's motions are eliminated first, block by block, into the camera system, which is then
-  // solved densely: a few small factorisations and one 6W x 6W, instead of one over every motion.
-  bool solveReduced(const MatX& S, const VecX& b, VecX* dx) const {
-    const int nc = 6 * num_cameras_, num_motions = static_cast<int>(poses_.size()) - num_cameras_;
-    std::vector<int> parent(num_motions);
-    std::iota(parent.begin(), parent.end(), 0);
-    std::function<int(int)> find = [&](int i) { return parent[i] == i ? i : parent[i] = find(parent[i]); };
-    for (int i = 0; i < num_motions; ++i)
-      for (int j = i + 1; j < num_motions; ++j)
-        if (!S.block<6, 6>(nc + 6 * i, nc + 6 * j).isZero(0.0)) parent[find(i)] = find(j);
-    std::vector<std::vector<int>> rows_of(num_motions);
-    for (int i = 0; i < num_motions; ++i)
-      for (int r = 0; r < 6; ++r) rows_of[find(i)].push_back(nc + 6 * i + r);
-
-    std::vector<int> camera_rows(nc);
-    std::iota(camera_rows.begin(), camera_rows.end(), 0);
-    MatX Scc = S.topLeftCorner(nc, nc);
-    VecX bc = b.head(nc);
-    struct Eliminated {
-      const std::vector<int>* rows;
-      VecX Ainv_b;
-      MatX Ainv_Bt;
-    };
-    std::vector<Eliminated> eliminated;
-    for (const std::vector<int>& rows : rows_of) {
-      if (rows.empty()) continue;
-      const Eigen::LLT<MatX> llt(S(rows, rows));
-      if (llt.info() != Eigen::Success) return false;
-      const MatX B = S(camera_rows, rows);
-      Eliminated e{&rows, llt.solve(b(rows)), llt.solve(B.transpose())};
-      Scc.noalias() -= B * e.Ainv_Bt;
-      bc.noalias() -= B * e.Ainv_b;
-      eliminated.push_back(std::move(e));
-    }
-    dx->resize(S.rows());
-    if (nc > 0) {
-      const Eigen::LLT<MatX> llt(Scc);
-      if (llt.info() != Eigen::Success) return false;
-      dx->head(nc) = llt.solve(-bc);
-    }
-    for (const Eliminated& e : eliminated) {
-      const VecX dm = -e.Ainv_b - e.Ainv_Bt * dx->head(nc);
-      for (size_t r = 0; r < e.rows->size(); ++r) (*dx)[(*e.rows)[r]] = dm[static_cast<Eigen::Index>(r)];
-    }
-    return true;
+  // The marginal covariance of each motion of the window (the points, the cameras and the other motions
+  // marginalised out), by motion-variable id, from the system of the last step: linearised one step
+  // before the estimate and damped by the last (small, at convergence) LM lambda, which linearising
+  // again at the estimate would change by less than the covariance's own accuracy, at the cost of one
+  // more iteration. Empty when there was no step or its system was not positive definite.
+  std::unordered_map<int, Mat6> motionCovariances() const {
+    std::unordered_map<int, Mat6> out;
+    if (!last_reduced_) return out;
+    const std::vector<Mat6> blocks = last_reduced_->motionCovariances();
+    for (const auto& [id, index] : motion_index_) out[id] = blocks[index - num_cameras_];
+    return out;
   }
 
+ private:
+  // The normal equations with every point group eliminated: S over the cameras then the motions.
+  void buildReduced(double lambda, MatX* S, VecX* b) {
+    const int n = 6 * static_cast<int>(poses_.size());
+    *S = MatX::Zero(n, n);
+    *b = VecX::Zero(n);
+    VecX diag = VecX::Zero(n);  // undamped diagonal of the pose-pose block, for the damping
+    for (Group& g : groups_) eliminate(g, lambda, S, b, &diag);
+    for (const auto& f : pose_factors_) addPoseFactor(f, S, b, &diag);
+    for (int i = 0; i < n; ++i) (*S)(i, i) += lambda * std::max(diag[i], 1e-9) + 1e-12;
+  }
+
+  // The reduced system S factorised by its structure. The motions of different objects are not coupled
+  // (cameras couple everything), so each object's motions (a component) are eliminated first, block by
+  // block, into the camera system, which is then factorised densely: a few small factorisations and one
+  // 6W x 6W, instead of one over every motion.
+  class ReducedSystem {
+   public:
+    explicit ReducedSystem(int camera_rows) : nc_(camera_rows) {}
+
+    bool factorise(const MatX& S) {
+      const int num_motions = (static_cast<int>(S.rows()) - nc_) / 6;
+      std::vector<int> parent(num_motions);
+      std::iota(parent.begin(), parent.end(), 0);
+      std::function<int(int)> find = [&](int i) { return parent[i] == i ? i : parent[i] = find(parent[i]); };
+      for (int i = 0; i < num_motions; ++i)
+        for (int j = i + 1; j < num_motions; ++j)
+          if (!S.block<6, 6>(nc_ + 6 * i, nc_ + 6 * j).isZero(0.0)) parent[find(i)] = find(j);
+      std::vector<std::vector<int>> rows_of(num_motions);
+      for (int i = 0; i < num_motions; ++i)
+        for (int r = 0; r < 6; ++r) rows_of[find(i)].push_back(nc_ + 6 * i + r);
+      std::vector<int> camera_rows(nc_);
+      std::iota(camera_rows.begin(), camera_rows.end(), 0);
+      MatX Scc = S.topLeftCorner(nc_, nc_);
+      for (std::vector<int>& rows : rows_of) {
+        if (rows.empty()) continue;
+        Component c{std::move(rows), Eigen::LLT<MatX>(), MatX()};
+        c.llt.compute(S(c.rows, c.rows));
+        if (c.llt.info() != Eigen::Success) return false;
+        c.Ainv_Bt = c.llt.solve(MatX(S(camera_rows, c.rows).transpose()));
+        Scc.noalias() -= S(camera_rows, c.rows) * c.Ainv_Bt;
+        components_.push_back(std::move(c));
+      }
+      if (nc_ > 0) {
+        cameras_.compute(Scc);
+        if (cameras_.info() != Eigen::Success) return false;
+      }
+      size_ = S.rows();
+      return true;
+    }
+
+    // S x = rhs.
+    VecX solve(const VecX& rhs) const {
+      VecX x(size_);
+      VecX rc = rhs.head(nc_);
+      std::vector<VecX> Ainv_r;
+      for (const Component& c : components_) {
+        Ainv_r.push_back(c.llt.solve(VecX(rhs(c.rows))));
+        rc.noalias() -= c.Ainv_Bt.transpose() * VecX(rhs(c.rows));
+      }
+      if (nc_ > 0) x.head(nc_) = cameras_.solve(rc);
+      for (size_t i = 0; i < components_.size(); ++i) {
+        const Component& c = components_[i];
+        const VecX xm = Ainv_r[i] - c.Ainv_Bt * x.head(nc_);
+        for (size_t r = 0; r < c.rows.size(); ++r) x[c.rows[r]] = xm[static_cast<Eigen::Index>(r)];
+      }
+      return x;
+    }
+
+    // The 6x6 diagonal blocks of S^-1 for the motions, in motion order:
+    // A^-1 + (A^-1 B^T) Scc'^-1 (B A^-1) per component, Scc' the cameras' Schur complement.
+    std::vector<Mat6> motionCovariances() const {
+      std::vector<Mat6> out((size_ - nc_) / 6, Mat6::Zero());
+      for (const Component& c : components_) {
+        MatX cov = c.llt.solve(MatX::Identity(c.rows.size(), c.rows.size()));
+        if (nc_ > 0) {
+          const MatX L_inv_E = cameras_.matrixL().solve(MatX(c.Ainv_Bt.transpose()));
+          cov.noalias() += L_inv_E.transpose() * L_inv_E;
+        }
+        for (size_t r = 0; r < c.rows.size(); r += 6)
+          out[(c.rows[r] - nc_) / 6] = cov.block<6, 6>(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(r));
+      }
+      return out;
+    }
+
+   private:
+    struct Component {
+      std::vector<int> rows;  // of S
+      Eigen::LLT<MatX> llt;   // of its block A
+      MatX Ainv_Bt;           // A^-1 B^T, B its coupling to the cameras
+    };
+    int nc_;
+    Eigen::Index size_ = 0;
+    std::vector<Component> components_;
+    Eigen::LLT<MatX> cameras_;
+  };
+
+ public:
   // Applies a step; the previous values are kept for undo().
   void apply(const VecX& dx, const std::vector<Vec3>& dp) {
     saved_poses_.resize(poses_.size());
@@ -503,6 +566,7 @@ class WindowProblem {
     Mat36 B;
   };
   std::vector<WBlock> scratch_blocks_;
+  std::optional<ReducedSystem> last_reduced_;  // of the last computeStep, for motionCovariances
   std::vector<PoseBlock> saved_poses_;
   std::vector<std::array<double, 3>> saved_points_;
 };
@@ -541,6 +605,8 @@ WindowSolveSummary SolveWindow(const BackendParams& params, const WindowSolveOpt
     if (decrease < options.function_tolerance) break;
   }
   summary.final_cost = cost;
+  if (options.motion_covariance)
+    for (const auto& [id, covariance] : problem.motionCovariances()) graph->motions.at(id).covariance = covariance;
   return summary;
 }
 

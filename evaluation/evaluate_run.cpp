@@ -27,6 +27,8 @@ std::vector<ObjectPairSample> BuildObjectSamples(const Sequence& seq, const Esti
         s.H_world_est = it->second->H_world;
         s.speed_est_mps = it->second->speed_mps;
         s.est_dynamic = it->second->is_dynamic;
+        s.covariance_est = it->second->covariance;
+        s.speed_sigma_est_mps = it->second->speed_sigma_mps;
       }
       samples.push_back(s);
     }

@@ -41,6 +41,8 @@ struct ObjectPairSample {
   SE3 H_world_est;
   double speed_est_mps = 0.0;
   bool est_dynamic = false;
+  Mat6 covariance_est = Mat6::Zero();  // of the estimate (ObjectMotionEstimate::covariance)
+  double speed_sigma_est_mps = 0.0;
 
   bool gtMoving() const { return speed_gt_mps >= kMovingSpeedThresholdMps; }
 };

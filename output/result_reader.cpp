@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -113,6 +114,8 @@ RunResults ReadRunResults(const std::string& dir) {
   r.has_objects = r.method == "ours" || fs::exists(speeds_path);
   const CsvTable speeds = !r.has_objects ? CsvTable{} :
       ReadCsv(speeds_path, {"frame", "object_id", "is_dynamic", "est_speed_mps", "gt_speed_mps"});
+  std::optional<size_t> sigma_column;
+  if (speeds.header.size() > 5 && speeds.header[5] == "speed_sigma_mps") sigma_column = 5;
   for (size_t i = 0; i < speeds.rows.size(); ++i) {
     const auto& row = speeds.rows[i];
     const int line = speeds.line_numbers[i];
@@ -122,6 +125,8 @@ RunResults ReadRunResults(const std::string& dir) {
     s.estimated = !row[3].empty();
     s.is_dynamic = row[2] == "1";
     if (s.estimated) s.est_mps = ParseDouble(row[3], speeds_path, line, "estimated speed");
+    if (sigma_column && !row[*sigma_column].empty())
+      s.sigma_mps = ParseDouble(row[*sigma_column], speeds_path, line, "speed sigma");
     if (!r.has_ground_truth) {
       if (s.estimated) r.speeds.push_back(s);
       continue;

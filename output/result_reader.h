@@ -27,6 +27,7 @@ struct RunResults {
     int frame = 0, object_id = 0;
     bool estimated = false, is_dynamic = false;
     double est_mps = 0.0, gt_mps = 0.0;
+    double sigma_mps = 0.0;  // of the estimate; 0 when unknown (or written before the column existed)
   };
   std::vector<SpeedRow> speeds;
   struct MotionRow {

@@ -40,26 +40,32 @@ void WriteObjectTables(const std::string& dir, const std::string& suffix, const 
   std::set<std::pair<int, int>> covered;
   WholeFile motions = OpenCsv(dir + "/object_motions" + suffix + ".csv",
                                   "frame,object_id,is_dynamic,est_tx,est_ty,est_tz,est_qx,est_qy,est_qz,est_qw,"
-                                  "gt_tx,gt_ty,gt_tz,gt_qx,gt_qy,gt_qz,gt_qw");
+                                  "gt_tx,gt_ty,gt_tz,gt_qx,gt_qy,gt_qz,gt_qw" + std::string(kMotionSigmaColumns));
   WholeFile speeds = OpenCsv(dir + "/object_speeds" + suffix + ".csv",
-                                 "frame,object_id,is_dynamic,est_speed_mps,gt_speed_mps");
+                                 "frame,object_id,is_dynamic,est_speed_mps,gt_speed_mps" + std::string(kSpeedSigmaColumn));
   for (const auto& s : samples) {
     covered.insert({s.object_id, s.frame});
     motions << s.frame << ',' << s.object_id << ',' << (s.estimated ? std::to_string(s.est_dynamic) : "");
     PutPose(motions, s.estimated ? &s.H_world_est : nullptr);
     PutPose(motions, &s.H_world_gt);
+    PutMotionSigmas(motions, s.estimated ? &s.covariance_est : nullptr);
     motions << '\n';
     speeds << s.frame << ',' << s.object_id << ',' << (s.estimated ? std::to_string(s.est_dynamic) : "") << ',';
     if (s.estimated) speeds << s.speed_est_mps;
-    speeds << ',' << s.speed_gt_mps << '\n';
+    speeds << ',' << s.speed_gt_mps;
+    PutSpeedSigma(speeds, s.estimated ? s.speed_sigma_est_mps : 0.0);
+    speeds << '\n';
   }
   for (const auto& m : est.object_motions) {
     if (covered.count({m.object_id, m.frame})) continue;
     motions << m.frame << ',' << m.object_id << ',' << m.is_dynamic;
     PutPose(motions, &m.H_world);
     PutPose(motions, nullptr);
+    PutMotionSigmas(motions, &m.covariance);
     motions << '\n';
-    speeds << m.frame << ',' << m.object_id << ',' << m.is_dynamic << ',' << m.speed_mps << ",\n";
+    speeds << m.frame << ',' << m.object_id << ',' << m.is_dynamic << ',' << m.speed_mps << ',';
+    PutSpeedSigma(speeds, m.speed_sigma_mps);
+    speeds << '\n';
   }
   motions.commit();
   speeds.commit();

@@ -4,6 +4,8 @@
 #include <iomanip>
 #include <stdexcept>
 
+#include "output/text_format.h"
+
 namespace dslam {
 namespace {
 
@@ -38,9 +40,10 @@ void StreamingFileSink::open() {
   online_ = Open(dir_ + "/camera_ours_online.tum", "", true);
   motions_ = Open(dir_ + "/object_motions.csv",
                   "frame,object_id,is_dynamic,est_tx,est_ty,est_tz,est_qx,est_qy,est_qz,est_qw,"
-                  "gt_tx,gt_ty,gt_tz,gt_qx,gt_qy,gt_qz,gt_qw",
+                  "gt_tx,gt_ty,gt_tz,gt_qx,gt_qy,gt_qz,gt_qw" + std::string(kMotionSigmaColumns),
                   false);
-  speeds_ = Open(dir_ + "/object_speeds.csv", "frame,object_id,is_dynamic,est_speed_mps,gt_speed_mps", false);
+  speeds_ = Open(dir_ + "/object_speeds.csv",
+                 "frame,object_id,is_dynamic,est_speed_mps,gt_speed_mps" + std::string(kSpeedSigmaColumn), false);
   points_ = Open(dir_ + "/map_points.csv", "frame,object_id,x,y,z", false);
 }
 
@@ -70,8 +73,12 @@ void StreamingFileSink::motionFinal(const ObjectMotionEstimate& m) {
   const auto& t = m.H_world.translation();
   const auto& q = m.H_world.rotation();
   motions_ << m.frame << ',' << m.object_id << ',' << m.is_dynamic << ',' << t.x() << ',' << t.y() << ',' << t.z()
-           << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << q.w() << ",,,,,,,\n";
-  speeds_ << m.frame << ',' << m.object_id << ',' << m.is_dynamic << ',' << m.speed_mps << ",\n";
+           << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << q.w() << ",,,,,,,";
+  PutMotionSigmas(motions_, &m.covariance);
+  motions_ << '\n';
+  speeds_ << m.frame << ',' << m.object_id << ',' << m.is_dynamic << ',' << m.speed_mps << ',';
+  PutSpeedSigma(speeds_, m.speed_sigma_mps);
+  speeds_ << '\n';
 }
 
 void StreamingFileSink::pointFinal(const PointEstimate& p) {

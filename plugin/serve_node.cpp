@@ -48,6 +48,7 @@ dslam_msgs::msg::ObjectMotionArray ToMessage(const FrameEstimate& e, double fram
     o.centroid_world().x(centroid_world.x()), o.centroid_world().y(centroid_world.y());
     o.centroid_world().z(centroid_world.z());
     o.is_dynamic(m.is_dynamic);
+    for (int i = 0; i < 36; ++i) o.covariance()[i] = m.covariance(i / 6, i % 6);  // row-major
     msg.objects().push_back(o);
   }
   return msg;

@@ -2,6 +2,7 @@
 
 #include <vtkActor.h>
 #include <vtkAxis.h>
+#include <vtkBrush.h>
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
 #include <vtkChartLegend.h>
@@ -14,6 +15,7 @@
 #include <vtkPNGWriter.h>
 #include <vtkPen.h>
 #include <vtkPlot.h>
+#include <vtkPlotArea.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
@@ -100,6 +102,32 @@ vtkPlot* AddLine(vtkChartXY* chart, const Series& data, const std::array<unsigne
   plot->SetLabel(label);
   plot->SetLegendVisibility(!label.empty());
   return plot;
+}
+
+// A filled band between low and high (one per x), light in the colour: an estimate's +-1 sigma.
+void AddBand(vtkChartXY* chart, const std::vector<std::array<double, 3>>& x_low_high,
+             const std::array<unsigned char, 3>& colour, const std::string& label) {
+  if (x_low_high.size() < 2) return;
+  vtkNew<vtkTable> table;
+  vtkNew<vtkFloatArray> x, low, high;
+  x->SetName("x");
+  low->SetName("low");
+  high->SetName("high");
+  table->AddColumn(x);
+  table->AddColumn(low);
+  table->AddColumn(high);
+  table->SetNumberOfRows(static_cast<vtkIdType>(x_low_high.size()));
+  for (size_t i = 0; i < x_low_high.size(); ++i)
+    for (int c = 0; c < 3; ++c) table->SetValue(static_cast<vtkIdType>(i), c, x_low_high[i][c]);
+  auto* area = vtkPlotArea::SafeDownCast(chart->AddPlot(vtkChart::AREA));
+  if (!area) return;
+  area->SetInputData(table);
+  area->SetInputArray(0, "x");
+  area->SetInputArray(1, "low");
+  area->SetInputArray(2, "high");
+  area->GetBrush()->SetColor(colour[0], colour[1], colour[2], 70);
+  area->SetLabel(label);
+  area->SetLegendVisibility(!label.empty());
 }
 
 std::string Fixed(double v, int precision) {
@@ -238,9 +266,13 @@ PlotArea DrawTrajectoryFigure(const RunResults& r, const std::string& png, const
 
 void DrawSpeedsFigure(const RunResults& r, const std::string& png, const FigureOptions& o) {
   std::map<int, Series> est, gt;
+  std::map<int, std::vector<std::array<double, 3>>> band;  // estimate +- 1 sigma, km/h
   for (const auto& s : r.speeds) {
     if (r.has_ground_truth) gt[s.object_id].emplace_back(s.frame, s.gt_mps * kMpsToKmh);
     if (s.estimated) est[s.object_id].emplace_back(s.frame, s.est_mps * kMpsToKmh);
+    if (s.estimated && s.sigma_mps > 0.0)
+      band[s.object_id].push_back({static_cast<double>(s.frame), std::max(0.0, s.est_mps - s.sigma_mps) * kMpsToKmh,
+                                   (s.est_mps + s.sigma_mps) * kMpsToKmh});
   }
   // The moving objects with most estimates, at most 16 panels.
   std::vector<int> ids = MovingObjects(r);
@@ -264,6 +296,7 @@ void DrawSpeedsFigure(const RunResults& r, const std::string& png, const FigureO
     auto* chart = vtkChartXY::SafeDownCast(matrix->GetChart(vtkVector2i(i % cols, rows - 1 - i / cols)));
     const int palette = static_cast<int>(std::find(objects.begin(), objects.end(), id) - objects.begin());
     StyleChart(chart, "object " + std::to_string(id), "frame", "speed (km/h)", o, 11);
+    AddBand(chart, band[id], ObjectColour(palette), "estimate +- 1 sigma");
     if (!gt[id].empty()) AddLine(chart, gt[id], kGroundTruthColour, Px(2.0, o), true, "ground truth");
     AddLine(chart, est[id], ObjectColour(palette), Px(2.0, o), false, "estimate");
     chart->SetShowLegend(i == 0);

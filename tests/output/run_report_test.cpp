@@ -47,7 +47,7 @@ TEST(RunReport, WritesEveryResultFile) {
   std::ifstream speeds(dir + "/object_speeds.csv");
   std::string header, line;
   std::getline(speeds, header);
-  EXPECT_EQ(header, "frame,object_id,is_dynamic,est_speed_mps,gt_speed_mps");
+  EXPECT_EQ(header, "frame,object_id,is_dynamic,est_speed_mps,gt_speed_mps,speed_sigma_mps");
   int rows = 0;
   while (std::getline(speeds, line)) ++rows;
   EXPECT_EQ(rows, 14);  // one object, 14 frame pairs

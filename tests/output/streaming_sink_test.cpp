@@ -31,6 +31,8 @@ TEST(StreamingFileSink, AppendsFinalEstimatesReadableWhileTheRunGoes) {
   ObjectMotionEstimate m;
   m.object_id = 7, m.frame = 1, m.is_dynamic = true, m.speed_mps = 2.5;
   m.H_world = Pose(0.25);
+  m.covariance = Mat6::Identity() * 0.04;
+  m.speed_sigma_mps = 0.3;
   sink.motionFinal(m);
   sink.pointFinal({1, 42, -1, Vec3(1, 2, 3)});
   sink.pointFinal({1, 43, 7, Vec3(4, 5, 6)});
@@ -48,9 +50,11 @@ TEST(StreamingFileSink, AppendsFinalEstimatesReadableWhileTheRunGoes) {
   EXPECT_EQ(speeds.rows[0][speeds.column("object_id", "speeds")], "7");
   EXPECT_EQ(speeds.rows[0][speeds.column("est_speed_mps", "speeds")], "2.5");
   EXPECT_EQ(speeds.rows[0][speeds.column("gt_speed_mps", "speeds")], "");
+  EXPECT_EQ(speeds.rows[0][speeds.column("speed_sigma_mps", "speeds")], "0.3");
   const CsvTable motions = ReadCsv(dir + "/object_motions.csv");  // every row has every column
   ASSERT_EQ(motions.rows.size(), 1u);
   EXPECT_EQ(motions.rows[0][motions.column("est_tx", "motions")], "0.25");
+  EXPECT_EQ(motions.rows[0][motions.column("est_sigma_rz", "motions")], "0.2");
   const CsvTable points = ReadCsv(dir + "/map_points.csv");
   ASSERT_EQ(points.rows.size(), 2u);
   EXPECT_EQ(points.rows[0][0], "-1");  // a landmark: no frame

@@ -2,6 +2,7 @@
 // test on its own DDS domain, with an in-test participant listening to (or writing) the topics.
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <Eigen/Eigenvalues>
 #include <unistd.h>
 
 #include <chrono>
@@ -187,6 +188,7 @@ std::vector<FrameEstimate> Reference(const std::string& dir, MethodResult* final
 void ExpectSameEstimates(const std::vector<FrameEstimate>& reference, Listener& listener) {
   std::lock_guard<std::mutex> lock(listener.mutex);
   ASSERT_EQ(listener.poses_by_stamp.size(), reference.size());
+  int moving_with_covariance = 0;
   for (const FrameEstimate& e : reference) {
     const SE3& received = listener.poses_by_stamp.at(e.t_ns);
     EXPECT_LT((received.translation() - e.T_world_camera.translation()).norm(), 1e-9) << e.t_ns;
@@ -205,8 +207,19 @@ void ExpectSameEstimates(const std::vector<FrameEstimate>& reference, Listener& 
       const Vec3 centroid_k = e.object_motions[i].H_world * e.object_motions[i].centroid_prev_world;
       EXPECT_LT((Vec3(c.x(), c.y(), c.z()) - centroid_k).norm(), 1e-9);
       EXPECT_EQ(objects[i].is_dynamic(), e.object_motions[i].is_dynamic);
+      // The motion's covariance, row-major: the reference's, and for a moving object a covariance
+      // (symmetric, positive definite).
+      Mat6 covariance;
+      for (int j = 0; j < 36; ++j) covariance(j / 6, j % 6) = objects[i].covariance()[static_cast<size_t>(j)];
+      EXPECT_LT((covariance - e.object_motions[i].covariance).norm(), 1e-12);
+      if (objects[i].is_dynamic()) {
+        ++moving_with_covariance;
+        EXPECT_LT((covariance - covariance.transpose()).norm(), 1e-9 * covariance.norm());
+        EXPECT_GT(Eigen::SelfAdjointEigenSolver<Mat6>(covariance).eigenvalues().minCoeff(), 0.0) << e.t_ns;
+      }
     }
   }
+  EXPECT_GT(moving_with_covariance, 0);
 }
 
 // Two vehicles' listeners: every frame arrives, and each vehicle's estimates equal its own reference.

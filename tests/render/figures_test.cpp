@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "app/figures_command.h"
+#include "output/result_reader.h"
 #include "output/run_report.h"
 #include "pipeline/run_sequence.h"
 #include "render/headless_display.h"
@@ -29,13 +30,14 @@ namespace {
 namespace fs = std::filesystem;
 
 // A small `city` run written with the regular writers: real result files with known trajectories.
-std::string MakeResults(const std::string& name) {
+std::string MakeResults(const std::string& name, bool sliding_window = false) {
   const std::string dir = test::TempDir(name);
   ScenarioOptions opt;
   opt.num_frames = 40;
   const Sequence seq = MakeScenario("city", opt);
   RunConfig config;
   config.backend.default_mode = MotionMode::kSmoothed;
+  if (sliding_window) config.backend.schedule = {ScheduleKind::kSlidingWindow, 10};  // speeds with their sigma
   WriteRunOutputs(dir, seq, RunSequence(seq, config), {{"command", "sim"}, {"scenario", "city"}});
   return dir;
 }
@@ -155,6 +157,26 @@ TEST_F(Figures, CommandDrawsEveryFigureAndTheReportDeterministically) {
   print.scale = 2.0;
   ASSERT_EQ(RunFiguresCommand(dir, print, out, err), 0) << err.str();
   EXPECT_EQ(Load(dir + "/speeds.png")->width, 3200);
+  fs::remove_all(dir);
+}
+
+TEST_F(Figures, SpeedsAreDrawnWithTheirOneSigmaBand) {
+  const std::string dir = MakeResults("band", true);
+  const RunResults results = ReadRunResults(dir);
+  int with_sigma = 0;
+  for (const auto& s : results.speeds) with_sigma += s.estimated && s.sigma_mps > 0.0;
+  ASSERT_GT(with_sigma, 20);
+  std::ostringstream out, err;
+  ASSERT_EQ(RunFiguresCommand(dir, FigureOptions{}, out, err), 0) << err.str();
+  const double banded = NonWhiteFraction(*Load(dir + "/speeds.png"));
+  // The same speeds without their sigma (a file written before the column existed still reads).
+  std::ifstream in(dir + "/object_speeds.csv");
+  std::ostringstream without;
+  for (std::string line; std::getline(in, line);) without << line.substr(0, line.rfind(',')) << '\n';
+  in.close();
+  std::ofstream(dir + "/object_speeds.csv") << without.str();
+  ASSERT_EQ(RunFiguresCommand(dir, FigureOptions{}, out, err), 0) << err.str();
+  EXPECT_GT(banded, NonWhiteFraction(*Load(dir + "/speeds.png")) + 0.001);
   fs::remove_all(dir);
 }
 
