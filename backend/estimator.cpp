@@ -80,7 +80,7 @@ Estimate Estimator::finish() {
 
 void Estimator::flush() {
   for (const auto& tr : graph_.transitions)
-    if (!(tr.is_dynamic && tr.motion_var < 0)) sink_->motionFinal(MotionEstimateOf(graph_, tr, frame_rate_hz_));
+    if (tr.reportable()) sink_->motionFinal(MotionEstimateOf(graph_, tr, frame_rate_hz_));
   graph_.transitions.clear();
   for (int k = cameras_final_; k < graph_.numFrames(); ++k) {
     for (const auto& meas : graph_.frame(k).measurements) {
@@ -99,7 +99,7 @@ FrameEstimate Estimator::latest() const {
   out.T_world_camera = BlockToPose(graph_.camera(out.frame));
   // Transitions are appended frame by frame: the newest frame's are at the back.
   for (auto it = graph_.transitions.rbegin(); it != graph_.transitions.rend() && it->frame == out.frame; ++it) {
-    if (it->is_dynamic && it->motion_var < 0) continue;
+    if (!it->reportable()) continue;
     out.object_motions.push_back(MotionEstimateOf(graph_, *it, frame_rate_hz_));
   }
   std::reverse(out.object_motions.begin(), out.object_motions.end());

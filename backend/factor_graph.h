@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "backend/factors/pose_block.h"
+#include "data/measurements.h"
 #include "geometry/se3.h"
 
 namespace dslam {
@@ -111,7 +112,10 @@ struct ObjectTransition {
   std::vector<int> prev_point_vars;  // the inlier tracks' variables at k-1 (centroid c_{k-1})
   // Set once the variables at k-1 leave the smoother's window (their final centroid).
   std::optional<Vec3> centroid_prev_world;
-  bool moving = true;  // the classifier's report (ObjectObservation::moving); false: reported standing
+  ReportedMotion reported = ReportedMotion::kMoving;  // ObjectObservation::reported
+
+  // Whether the transition's motion reaches the result sinks: it has an estimate and is supported.
+  bool reportable() const { return !(is_dynamic && motion_var < 0) && reported != ReportedMotion::kUnsupported; }
 };
 
 inline SE3 MotionVariable::worldMotion() const {

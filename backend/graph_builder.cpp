@@ -133,7 +133,7 @@ void GraphBuilder::addObject(const ObjectObservation& obs, int frame, const SE3&
 
 void GraphBuilder::addDynamicTransition(const ObjectObservation& obs, int frame, ObjectTrackState& state,
                                         const std::vector<int>& prev_vars, const std::vector<int>& curr_vars) {
-  ObjectTransition transition{obs.object_id, frame, true, -1, {}, std::nullopt, obs.moving};
+  ObjectTransition transition{obs.object_id, frame, true, -1, {}, std::nullopt, obs.reported};
   std::vector<Vec3> src, dst;
   std::vector<size_t> pair_index;
   for (size_t i = 0; i < obs.points.size(); ++i) {

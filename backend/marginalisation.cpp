@@ -77,7 +77,7 @@ ObjectMotionEstimate MotionEstimateOf(const FactorGraph& graph, const ObjectTran
   m.frame = tr.frame;
   // Reported as estimated only when the classifier calls it moving; a jittering parked car is estimated
   // with its own motion (so that it does not pull the camera) but reported standing.
-  m.is_dynamic = tr.is_dynamic && tr.moving;
+  m.is_dynamic = tr.is_dynamic && tr.reported == ReportedMotion::kMoving;
   if (m.is_dynamic) m.H_world = graph.motions.at(tr.motion_var).worldMotion();
   const std::optional<Vec3> centroid = tr.centroid_prev_world ? tr.centroid_prev_world : Centroid(graph, tr.prev_point_vars);
   m.centroid_prev_world = centroid.value_or(Vec3::Zero());
@@ -243,7 +243,7 @@ void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, i
       kept_transitions.push_back(std::move(tr));
       continue;
     }
-    if (!(tr.is_dynamic && tr.motion_var < 0)) sink->motionFinal(MotionEstimateOf(*graph, tr, frame_rate_hz));
+    if (tr.reportable()) sink->motionFinal(MotionEstimateOf(*graph, tr, frame_rate_hz));
   }
   graph->transitions.swap(kept_transitions);
   if (m + 1 < graph->numFrames()) {

@@ -28,6 +28,8 @@ struct ObjectMotionFit {
   double residual_sq_sum_m2 = 0.0;  // sum over inliers of |T_prev_curr * p_k - H * p_{k-1}|^2
 };
 
+enum class ReportedMotion { kMoving, kStanding, kUnsupported };
+
 // Points that fall inside one instance mask.
 struct ObjectObservation {
   int object_id = 0;
@@ -35,10 +37,11 @@ struct ObjectObservation {
   // Set by the front-end's scene-flow test over the transition from the previous frame; an object
   // first seen in this frame stays dynamic (it has no previous frame to compare with).
   bool is_dynamic = true;
-  // The classifier's report: dynamic and moving over its recent transitions. A dynamic object that is
-  // not moving (a parked car whose measurements jitter) keeps its own motion in the estimator but is
-  // reported standing, with no speed.
-  bool moving = true;
+  // What is reported of it (the classifier's decision over its recent transitions): a dynamic object
+  // that is not moving (a parked car whose measurements jitter) keeps its own motion in the estimator
+  // but is reported standing, with speed 0; an object whose motion is not yet supported (entering the
+  // view, back from an occlusion) is estimated but its motion is not reported at all.
+  ReportedMotion reported = ReportedMotion::kMoving;
   std::optional<ObjectMotionFit> motion_fit;  // from an image front-end; absent for other sources
 };
 

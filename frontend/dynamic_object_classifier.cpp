@@ -1,11 +1,13 @@
 #include "frontend/dynamic_object_classifier.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <optional>
 #include <stdexcept>
 #include <unordered_map>
+#include <vector>
 
 #include "geometry/velocity.h"
 
@@ -23,9 +25,8 @@ void MatchTracks(const std::vector<PointObservation>& prev, const std::vector<Po
     curr_pts->push_back(c.p_camera);
   }
 }
-// A transition this many times faster than the speed threshold (and significant) is reported moving
-// whatever the window says: a parked car's measurement jitter stays well below it (KITTI's labels: up
-// to 2.5 times), and missing a moving car costs more than a moment's speed on a parked one.
+// Until an object's window holds half its length, one transition this many times faster than the speed
+// threshold (and significant) is reported moving: an oncoming car seen for a few frames gets its speed.
 constexpr double kClearMotionFactor = 3.0;
 // Floor of a displacement's standard deviation: unmodelled effects (and exact synthetic data).
 constexpr double kMinDisplacementSigmaM = 1e-3;
@@ -115,15 +116,45 @@ std::optional<ObjectMotionTest> DynamicObjectClassifier::testObjectMotion(const 
   return test;
 }
 
-bool DynamicObjectClassifier::movingOverWindow(const Window& window) const {
-  Vec3 sum = Vec3::Zero();
+ReportedMotion DynamicObjectClassifier::reportOverWindow(const Window& window) const {
+  // Supported only once the window holds half its length: a car entering the view (or back from an
+  // occlusion) with a few tracks gets no report from one or two noisy fits, unless it is clearly moving.
+  const int n = static_cast<int>(window.displacement.size());
+  if (2 * n < window_transitions_) return window.last_clearly_moving ? ReportedMotion::kMoving : ReportedMotion::kUnsupported;
+  // Two statistics of the window's displacements, each blind where the other sees:
+  //  - their sum (the net displacement): a parked car's jitter cancels in it, but one wrong fit (a
+  //    re-acquired track, possibly backwards) weighs as much as the whole motion;
+  //  - their per-axis median (the typical displacement), with most transitions moving that way
+  //    significantly: one wrong fit does not move it, but a jitter that alternates does.
+  // Moving: both agree, or the typical displacement alone is clearly moving (far above any jitter).
+  Vec3 sum = Vec3::Zero(), median;
   double variance = 0.0;
-  for (size_t i = 0; i < window.displacement.size(); ++i) sum += window.displacement[i], variance += window.variance_m2[i];
-  const double n = static_cast<double>(window.displacement.size());
-  const double speed_mps = sum.norm() * frame_rate_hz_ / n;
-  // An infinite variance (no camera motion known) leaves the speed alone to decide.
-  const bool significant = !std::isfinite(variance) || sum.squaredNorm() > params_.static_test_chi2 * variance;
-  return speed_mps >= params_.dynamic_speed_threshold_mps && significant;
+  for (int i = 0; i < n; ++i) sum += window.displacement[i], variance += window.variance_m2[i];
+  for (int axis = 0; axis < 3; ++axis) {
+    std::vector<double> values;
+    for (const Vec3& d : window.displacement) values.push_back(d[axis]);
+    std::nth_element(values.begin(), values.begin() + n / 2, values.end());
+    median[axis] = n % 2 ? values[n / 2]
+                         : 0.5 * (values[n / 2] + *std::max_element(values.begin(), values.begin() + n / 2));
+  }
+  const double step_m = params_.dynamic_speed_threshold_mps / frame_rate_hz_;
+  // An infinite variance (no camera motion known) leaves the speeds alone to decide.
+  const auto significant = [&](double d_m, double var_m2) {
+    return !std::isfinite(var_m2) || d_m * d_m > params_.static_test_chi2 * var_m2;
+  };
+  const bool net_moving = sum.norm() >= n * step_m && significant(sum.norm(), variance);
+  bool typical_moving = false;
+  if (median.norm() >= step_m) {
+    const Vec3 direction = median.normalized();
+    int along = 0;
+    for (int i = 0; i < n; ++i) {
+      const double d = window.displacement[i].dot(direction);
+      along += d >= step_m && significant(d, window.variance_m2[i]);
+    }
+    typical_moving = 2 * along > n;
+  }
+  const bool clearly = typical_moving && median.norm() >= kClearMotionFactor * step_m;
+  return (net_moving && typical_moving) || clearly ? ReportedMotion::kMoving : ReportedMotion::kStanding;
 }
 
 void DynamicObjectClassifier::label(const FrameMeasurement& prev, FrameMeasurement* curr) {
@@ -131,30 +162,30 @@ void DynamicObjectClassifier::label(const FrameMeasurement& prev, FrameMeasureme
   std::map<int, int> streaks;
   std::map<int, Window> windows;
   for (auto& obj : curr->objects) {
-    bool still = false, clearly_moving = false;
-    std::optional<bool> moving;
+    bool still = false;
+    std::optional<ReportedMotion> report;
     for (const auto& before : prev.objects) {
       if (before.object_id != obj.object_id) continue;
       Window window = windows_.count(obj.object_id) ? windows_.at(obj.object_id) : Window{};
       if (const auto test = testObjectMotion(before, obj, camera)) {
         still = test->speed_mps < params_.dynamic_speed_threshold_mps && !test->significant;
-        // Clearly moving on its own: a wrong fit in the window (a re-acquired track) must not hide it.
-        clearly_moving = test->significant && test->speed_mps >= kClearMotionFactor * params_.dynamic_speed_threshold_mps;
         window.displacement.push_back(R_first_camera_ * test->displacement_camera_prev);
+        window.last_clearly_moving =
+            test->significant && test->speed_mps >= kClearMotionFactor * params_.dynamic_speed_threshold_mps;
         window.variance_m2.push_back(test->variance_m2);
         while (static_cast<int>(window.displacement.size()) > window_transitions_) {
           window.displacement.pop_front();
           window.variance_m2.pop_front();
         }
       }
-      if (!window.displacement.empty()) moving = movingOverWindow(window);
+      if (!window.displacement.empty()) report = reportOverWindow(window);
       windows[obj.object_id] = std::move(window);
     }
     const auto it = static_streak_.find(obj.object_id);
     const int streak = still ? (it == static_streak_.end() ? 0 : it->second) + 1 : 0;
     streaks[obj.object_id] = streak;
     obj.is_dynamic = streak < params_.min_static_transitions;
-    obj.moving = obj.is_dynamic && (clearly_moving || moving.value_or(true));
+    obj.reported = !obj.is_dynamic ? ReportedMotion::kStanding : report.value_or(ReportedMotion::kUnsupported);
   }
   static_streak_ = std::move(streaks);  // objects not seen in this frame start over
   windows_ = std::move(windows);

@@ -8,10 +8,14 @@
 //    significant given the point noise and the camera motion's uncertainty (a chi-square test), over
 //    consecutive transitions: an object that jitters by a few centimetres (e.g. a replayed KITTI label)
 //    must not be merged into the static map, where it pulls the camera;
-//  - for the report (moving): the object moves only if its centroid's displacement summed over the
-//    last `motion_window_s` is both faster than the speed threshold and significant. Over a window a
-//    real motion adds up while a parked car's jitter cancels out: such a car is estimated with its own
-//    motion but reported standing, with no speed.
+//  - for the report (reported): over the object's transitions of the last `motion_window_s`, it is
+//    moving when both their net displacement and their typical (per-axis median) one are faster than
+//    the speed threshold and significant, or the typical one is clearly fast (three times the
+//    threshold); standing otherwise. A parked car's jitter cancels in the net displacement, one wrong
+//    fit (a re-acquired track) does not move the median; such a car keeps its own motion in the estimator
+//    but is reported standing, with speed 0. Until the window holds half its length (a car entering
+//    the view or back from an occlusion) the object is unsupported, its motion not reported at all,
+//    unless one transition alone is clearly moving (an oncoming car seen for a few frames).
 
 #include <deque>
 #include <map>
@@ -60,9 +64,9 @@ class DynamicObjectClassifier {
   // The object's own motion between the frames; nullopt with too few consistent tracks.
   std::optional<ObjectMotionTest> testObjectMotion(const ObjectObservation& prev, const ObjectObservation& curr,
                                                    const CameraMotionEstimate& camera) const;
-  // Sets is_dynamic and moving of every object of `curr`; objects not seen in `prev` stay dynamic and
-  // moving. Call once per frame in order: it counts each object's consecutive still transitions and
-  // keeps its last transitions.
+  // Sets is_dynamic and reported of every object of `curr`; objects not seen in `prev` stay dynamic and
+  // unsupported. Call once per frame in order: it counts each object's consecutive still transitions
+  // and keeps its last transitions.
   void label(const FrameMeasurement& prev, FrameMeasurement* curr);
 
  private:
@@ -70,9 +74,12 @@ class DynamicObjectClassifier {
   struct Window {
     std::deque<Vec3> displacement;
     std::deque<double> variance_m2;
+    bool last_clearly_moving = false;  // the last transition alone: fast and significant
   };
-  // Whether the summed displacement over the object's window is fast and significant.
-  bool movingOverWindow(const Window& window) const;
+  // What the object's window supports: moving when its net and its typical (median) displacement are
+  // both fast and significant, or the typical one is clearly fast; unsupported while it holds less than
+  // half its length (unless the last transition is clearly moving); standing otherwise.
+  ReportedMotion reportOverWindow(const Window& window) const;
 
   ClassifierParams params_;
   double frame_rate_hz_;

@@ -117,43 +117,59 @@ TEST(DynamicObjectClassifier, SignificantSmallMotionIsDynamicNoiseAloneIsNot) {
 
 TEST(DynamicObjectClassifier, AJitteringParkedObjectKeepsItsOwnMotionButIsReportedStanding) {
   // 7 cm back and forth every frame (0.7 m/s a frame, significant through 5 mm noise): never merged
-  // into the static map, but over the half-second window the jitter cancels and it is not moving.
-  // The same steps all in one direction add up: moving.
+  // into the static map, but over the half-second window it does not move. The same steps all in one
+  // direction do. Either is unsupported until the window holds half its length (3 transitions).
   for (const bool steady : {false, true}) {
     DynamicObjectClassifier c(ClassifierParams{}, 10.0);
-    int moving = 0, dynamic = 0;
     for (int k = 0; k < 20; ++k) {
       const double step = steady || k % 2 == 0 ? 0.07 : -0.07;
       TwoFrames f = MakeFrames(SE3(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, step)), true, false);
       AddNoise(&f.prev, 0.005, 100 + 2 * k);
       AddNoise(&f.curr, 0.005, 101 + 2 * k);
       c.label(f.prev, &f.curr);
-      dynamic += f.curr.objects[0].is_dynamic;
-      moving += f.curr.objects[0].moving;
+      EXPECT_TRUE(f.curr.objects[0].is_dynamic) << k;
+      const ReportedMotion expected =
+          k < 2 ? ReportedMotion::kUnsupported : steady ? ReportedMotion::kMoving : ReportedMotion::kStanding;
+      EXPECT_EQ(f.curr.objects[0].reported, expected) << (steady ? "steady " : "jitter ") << k;
     }
-    EXPECT_EQ(dynamic, 20) << (steady ? "steady" : "jitter");
-    if (steady)
-      EXPECT_EQ(moving, 20);
-    else
-      EXPECT_LE(moving, 1);  // the first transition alone cannot tell
   }
 }
 
-TEST(DynamicObjectClassifier, AClearlyMovingTransitionIsReportedMovingWhateverTheWindowSays) {
+TEST(DynamicObjectClassifier, OneWrongFitNeitherHidesAMotionNorMakesOne) {
+  const SE3 forward(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, 0.2));  // 2 m/s
+  const SE3 backward(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, -0.6));  // a wrong fit, 6 m/s back
+  DynamicObjectClassifier moving(ClassifierParams{}, 10.0), parked(ClassifierParams{}, 10.0);
+  for (int k = 0; k < 8; ++k) {
+    TwoFrames m = MakeFrames(k == 5 ? backward : forward, true, false);
+    moving.label(m.prev, &m.curr);
+    if (k >= 2) {
+      EXPECT_EQ(m.curr.objects[0].reported, ReportedMotion::kMoving) << k;
+    }
+    TwoFrames p = MakeFrames(k == 5 ? backward : SE3::Identity(), true, false);
+    parked.label(p.prev, &p.curr);
+    if (k >= 2) {
+      EXPECT_NE(p.curr.objects[0].reported, ReportedMotion::kMoving) << k;
+    }
+  }
+}
+
+TEST(DynamicObjectClassifier, AClearlyMovingNewObjectIsReportedAtOnceAStaticOneNeverMoving) {
   DynamicObjectClassifier c(ClassifierParams{}, 10.0);
-  // A wrong fit (1 m/s backwards) in the window, then 2 m/s forwards: the window's sum is small, but
-  // the transition alone is three times the speed threshold.
-  TwoFrames wrong = MakeFrames(SE3(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, -0.1)), true, false);
-  c.label(wrong.prev, &wrong.curr);
+  // An oncoming car seen for its first transition: 2 m/s, three times the threshold and more.
   TwoFrames fast = MakeFrames(SE3(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, 0.2)), true, false);
   c.label(fast.prev, &fast.curr);
-  EXPECT_TRUE(fast.curr.objects[0].moving);
-  // A static object is never reported moving.
+  EXPECT_EQ(fast.curr.objects[0].reported, ReportedMotion::kMoving);
+  // At 0.7 m/s it waits for support.
+  DynamicObjectClassifier slow_c(ClassifierParams{}, 10.0);
+  TwoFrames slow = MakeFrames(SE3(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, 0.07)), true, false);
+  slow_c.label(slow.prev, &slow.curr);
+  EXPECT_EQ(slow.curr.objects[0].reported, ReportedMotion::kUnsupported);
+  // A static object is reported standing.
   DynamicObjectClassifier still(OneStep(), 10.0);
   TwoFrames parked = MakeFrames(SE3::Identity(), true, false);
   still.label(parked.prev, &parked.curr);
   EXPECT_FALSE(parked.curr.objects[0].is_dynamic);
-  EXPECT_FALSE(parked.curr.objects[0].moving);
+  EXPECT_EQ(parked.curr.objects[0].reported, ReportedMotion::kStanding);
 }
 
 TEST(DynamicObjectClassifier, TakesTheFrontEndsMotionFitInsteadOfFittingAgain) {
