@@ -9,6 +9,7 @@
 #include "app/render_scene_command.h"
 #include "app/run_command.h"
 #include "app/sim_command.h"
+#include "simulation/scenarios.h"
 
 namespace {
 void AddFigureFlags(CLI::App* cmd, dslam::CommonRunOptions* options) {
@@ -26,13 +27,13 @@ int main(int argc, char** argv) {
   dslam::SimCommandOptions sim;
   CLI::App* sim_cmd = app.add_subcommand(
       "sim", "Simulate a scenario, run ours, static-only and SLAM+MOT, write results and print the metrics table");
-  sim_cmd->add_option("--scenario", sim.scenario, "Scenario: paper (one ellipsoid, circular path) or city")
-      ->check(CLI::IsMember({"paper", "city"}))
+  sim_cmd->add_option("--scenario", sim.scenario, "Scenario: paper (one ellipsoid, circular path), city or crossing (a junction)")
+      ->check(CLI::IsMember(dslam::ScenarioNames()))
       ->capture_default_str();
   sim_cmd->add_option("--seed", sim.seed, "Random seed (noise and scene); runs are deterministic")->capture_default_str();
   sim_cmd->add_option("--mode", sim.mode,
-                      "Object motion model: per-step, constant or smoothed (default: constant for paper, per-step "
-                      "for city)");
+                      "Object motion model: per-step, constant or smoothed (default: constant for paper, smoothed "
+                      "for city and crossing)");
   sim_cmd->add_option("--schedule", sim.schedule, "Solver schedule: batch (default) or window:W with W >= 2");
   sim_cmd->add_option("--sigma", sim.sigma_m, "Point measurement noise sigma per axis, metres")->capture_default_str();
   sim_cmd->add_option("--frames", sim.frames, "Number of frames (0: the scenario's default, 100 / 200; at most 100000)")
@@ -91,9 +92,9 @@ int main(int argc, char** argv) {
                                      "KITTI tracking data directory (KITTI or VDO-SLAM layout), with --seq")
                         ->check(CLI::ExistingDirectory);
   render_cmd->add_option("--seq", render.sequence, "Sequence number, e.g. 0000")->needs(kitti_opt);
-  render_cmd->add_option("--scenario", render.scenario, "Or a simulator scenario with box objects: city")
+  render_cmd->add_option("--scenario", render.scenario, "Or a simulator scenario with box objects: city or crossing")
       ->excludes(kitti_opt)
-      ->check(CLI::IsMember({"city"}));
+      ->check(CLI::IsMember({"city", "crossing"}));
   render_cmd->add_option("--frames", render.frames, "Frames to render (0: all; a scenario's default length)")
       ->capture_default_str();
   render_cmd->add_option("--scale", render.scale, "Image size relative to 1242x375, intrinsics scaled alike")

@@ -153,9 +153,82 @@ SimWorld CityWorld(int frames, uint64_t seed) {
   }
   return world;
 }
+
+// A slow camera at a junction (DESIGN.md §5 sensor model): it creeps towards the crossing street,
+// waits, and creeps on. Cars cross in front of it both ways at 30 to 60 km/h, 8 to 25 m away; others
+// come the other way on the camera's street; cars are parked at the kerbs; one car ahead stops before
+// the crossing and starts again.
+SimWorld CrossingWorld(int frames, uint64_t seed) {
+  SimWorld world;
+  world.name = "crossing";
+  world.frame_rate_hz = kFps;
+  const auto camera_path = IntegrateUnicycle(
+      GroundPose{}, [](double t) { return SpeedCommand{t < 4.0 ? 1.5 : t < 10.0 ? 0.0 : 1.0, 0.0}; }, frames, kFps);
+  for (int k = 0; k < frames; ++k) world.T_world_camera.push_back(CameraPoseOnGround(camera_path[k]));
+
+  // Facades along the camera's street with a gap for the crossing street (lanes at z = 22 and 26).
+  std::mt19937_64 rng(seed * 7919 + 29);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  constexpr double kLaneA = 22.0, kLaneB = 26.0, kGapBegin = 19.0, kGapEnd = 29.0;
+  for (double z = -10.0; z < 90.0; z += 0.8) {
+    for (double side : {-1.0, 1.0})
+      if (z < kGapBegin || z > kGapEnd) world.static_points_world.emplace_back(side * (11.5 + u(rng)), -6.0 + 7.6 * u(rng), z);
+    world.static_points_world.emplace_back(-8.0 + 16.0 * u(rng), kGroundY, z + 0.8 * u(rng));
+  }
+  for (double x = -40.0; x < 40.0; x += 0.8) {  // the crossing street's road and far facade
+    world.static_points_world.emplace_back(x, kGroundY, kGapBegin + (kGapEnd - kGapBegin) * u(rng));
+    world.static_points_world.emplace_back(x, -6.0 + 7.6 * u(rng), kGapEnd + 2.0 + u(rng));
+  }
+  for (double z : {4.0, 16.0, 34.0})  // poles
+    for (double side : {-1.0, 1.0})
+      for (double y = kGroundY; y > -5.0; y -= 0.6) world.static_points_world.emplace_back(side * 8.0, y, z);
+
+  const auto constant = [](double v) { return [v](double) { return SpeedCommand{v, 0.0}; }; };
+  const auto frame_at = [frames](double t) { return std::min(frames, static_cast<int>(std::lround(t * kFps))); };
+  const double kmh = 1.0 / 3.6;
+  struct Crossing {
+    double t0, x0, lane, yaw, speed_kmh;
+  };
+  // Both ways, 30 to 60 km/h; each exists from its start until it is well past the junction.
+  const Crossing crossings[] = {{0.5, -35.0, kLaneA, M_PI / 2, 30.0},
+                                {4.0, 45.0, kLaneB, -M_PI / 2, 50.0},
+                                {11.0, -55.0, kLaneA, M_PI / 2, 60.0},
+                                {15.0, 40.0, kLaneB, -M_PI / 2, 40.0}};
+  int id = kCrossingFirstCrossingId;
+  for (const Crossing& c : crossings) {
+    const double duration = 2.0 * std::abs(c.x0) / (c.speed_kmh * kmh);
+    const int first = frame_at(c.t0), last = frame_at(c.t0 + duration);
+    if (first < last)
+      world.objects.push_back(CityCar(id, {c.x0, c.lane, c.yaw}, constant(c.speed_kmh * kmh), first, last));
+    ++id;
+  }
+  // Oncoming on the left lane of the camera's street.
+  const std::pair<double, double> oncoming[] = {{1.0, 40.0}, {12.0, 35.0}};  // start time, km/h
+  id = kCrossingFirstOncomingId;
+  for (const auto& [t0, speed_kmh] : oncoming) {
+    const int first = frame_at(t0), last = frame_at(t0 + 90.0 / (speed_kmh * kmh));
+    if (first < last)
+      world.objects.push_back(CityCar(id, {-3.5, 75.0, M_PI}, constant(speed_kmh * kmh), first, last));
+    ++id;
+  }
+  // Ahead in the right lane: 4 m/s, brakes to a stop before the crossing at 3 s, waits until 9 s
+  // while the cars cross, then pulls away at 1.5 m/s^2 up to 6 m/s.
+  world.objects.push_back(CityCar(kCrossingStopAndGoId, {3.0, 12.0, 0.0},
+                                  [](double t) {
+                                    const double v = t < 2.0 ? 4.0 : t < 3.0 ? 4.0 - 4.0 * (t - 2.0)
+                                                   : t < 9.0 ? 0.0 : std::min(6.0, 1.5 * (t - 9.0));
+                                    return SpeedCommand{v, 0.0};
+                                  },
+                                  0, frames));
+  // Parked at both kerbs, short of the junction.
+  id = kCrossingParkedIdBase;
+  for (const auto& [x, z] : std::vector<std::pair<double, double>>{{9.3, 6.0}, {9.3, 13.0}, {-9.3, 3.0}, {-9.3, 11.0}})
+    world.objects.push_back(CityCar(id++, {x, z, 0.0}, [](double) { return SpeedCommand{}; }, 0, frames));
+  return world;
+}
 }  // namespace
 
-std::vector<std::string> ScenarioNames() { return {"paper", "city"}; }
+std::vector<std::string> ScenarioNames() { return {"paper", "city", "crossing"}; }
 
 std::string ScenarioDefaultMotionMode(const std::string& name) { return name == "paper" ? "constant" : "smoothed"; }
 
@@ -175,7 +248,12 @@ Sequence MakeScenario(const std::string& name, const ScenarioOptions& options) {
     return SimulateSensor(CityWorld(options.num_frames > 0 ? options.num_frames : 200, options.seed),
                           sensor, options.noise, options.seed);
   }
-  throw std::invalid_argument("unknown scenario '" + name + "' (expected paper or city)");
+  if (name == "crossing") {
+    sensor.object_max_range_m = 30.0;  // the crossing cars are seen before they reach the camera's street
+    return SimulateSensor(CrossingWorld(options.num_frames > 0 ? options.num_frames : 200, options.seed), sensor,
+                          options.noise, options.seed);
+  }
+  throw std::invalid_argument("unknown scenario '" + name + "' (expected paper, city or crossing)");
 }
 
 }  // namespace dslam

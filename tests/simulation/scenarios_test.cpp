@@ -103,6 +103,45 @@ TEST(Scenarios, CityHasTheScriptedBehaviours) {
   EXPECT_GE(std::count_if(gt.begin(), gt.end(), [](const auto& o) { return o.first >= kCityParkedIdBase; }), 10);
 }
 
+TEST(Scenarios, CrossingHasTheScriptedBehaviours) {
+  const Sequence seq = MakeScenario("crossing", ScenarioOptions{});
+  ASSERT_EQ(seq.frames.size(), 200u);
+  const auto& gt = seq.gt.objects;
+  auto speed_kmh = [&](int id, int k) {
+    const auto& o = gt.at(id);
+    return (o.centroid_world.at(k) - o.centroid_world.at(k - 1)).norm() * seq.frame_rate_hz * 3.6;
+  };
+  auto camera_speed = [&](int k) {
+    return (seq.gt.T_world_camera[k].translation() - seq.gt.T_world_camera[k - 1].translation()).norm() * 10.0;
+  };
+  EXPECT_NEAR(camera_speed(20), 1.5, 1e-6);  // creeping
+  EXPECT_NEAR(camera_speed(70), 0.0, 1e-9);  // waiting at the junction
+  // Four cars cross at 30 to 60 km/h, across the camera's axis, and are seen 8 to 25 m away.
+  for (int id = kCrossingFirstCrossingId; id < kCrossingFirstCrossingId + 4; ++id) {
+    const auto& o = gt.at(id);
+    ASSERT_GE(o.observed_frames.size(), 8u) << id;
+    const int k = *std::next(o.observed_frames.begin(), static_cast<long>(o.observed_frames.size() / 2));
+    EXPECT_GE(speed_kmh(id, k), 29.9) << id;
+    EXPECT_LE(speed_kmh(id, k), 60.1) << id;
+    const Vec3 dir = o.centroid_world.at(k) - o.centroid_world.at(k - 1);
+    EXPECT_GT(std::abs(dir.x()), 10.0 * std::abs(dir.z())) << id;  // crossing
+    const double distance = (seq.gt.T_world_camera[k].inverse() * o.centroid_world.at(k)).norm();
+    EXPECT_GT(distance, 8.0) << id;
+    EXPECT_LT(distance, 25.0) << id;
+  }
+  for (int id = kCrossingFirstOncomingId; id < kCrossingFirstOncomingId + 2; ++id) {
+    const auto& o = gt.at(id);
+    ASSERT_GE(o.observed_frames.size(), 8u) << id;
+    const int k = *o.observed_frames.rbegin();
+    EXPECT_LT((o.centroid_world.at(k) - o.centroid_world.at(k - 1)).z(), -0.9) << id;  // towards the camera
+  }
+  // The car ahead: moving, stopped, moving again.
+  EXPECT_NEAR(speed_kmh(kCrossingStopAndGoId, 10), 14.4, 0.1);
+  EXPECT_NEAR(speed_kmh(kCrossingStopAndGoId, 60), 0.0, 1e-9);
+  EXPECT_GT(speed_kmh(kCrossingStopAndGoId, 150), 20.0);
+  EXPECT_GE(std::count_if(gt.begin(), gt.end(), [](const auto& o) { return o.first >= kCrossingParkedIdBase; }), 2);
+}
+
 TEST(Scenarios, CityRepeatsExactlyEveryCycle) {
   ScenarioOptions opt;
   opt.num_frames = 2 * kCityCycleFrames;
