@@ -260,8 +260,9 @@ class WindowProblem {
       VecX rc = rhs.head(nc_);
       std::vector<VecX> Ainv_r;
       for (const Component& c : components_) {
-        Ainv_r.push_back(c.llt.solve(VecX(rhs(c.rows))));
-        rc.noalias() -= c.Ainv_Bt.transpose() * VecX(rhs(c.rows));
+        const VecX r = rhs(c.rows);
+        Ainv_r.push_back(c.llt.solve(r));
+        rc.noalias() -= c.Ainv_Bt.transpose() * r;
       }
       if (nc_ > 0) x.head(nc_) = cameras_.solve(rc);
       for (size_t i = 0; i < components_.size(); ++i) {

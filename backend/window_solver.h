@@ -24,7 +24,7 @@ struct WindowSolveOptions {
   double function_tolerance = 1e-4;  // stop when the cost falls by less than this fraction
   bool fix_cameras = false;          // SLAM+MOT's object stage: camera poses come from the static stage
   // After the solve, each motion's marginal covariance (MotionVariable::covariance) from the window's
-  // information at the estimate: one more linearisation.
+  // information, read from the last step's factorisation (no extra linearisation).
   bool motion_covariance = true;
 };
 

@@ -97,6 +97,10 @@ class ImageFrontend {
     std::vector<size_t> from_box;      // tracks predicted from their object's box (LK only)
     std::vector<cv::Point2f> px_if_still;  // one per from_box entry
   };
+  // Removes from `indices` (into `kept`) the tracks of an object that its last known motion and the
+  // camera's motion take out of the image: a match found for them is a wrong one.
+  void dropLeavingTracks(int object_id, const SE3& T_prev_curr, const std::vector<Track>& kept,
+                         std::vector<size_t>* indices, int* left_view) const;
   // Checks of a box-predicted track, whose object's motion is unknown. A parked car passing the image
   // border, or sliding behind a car that moves with us, has tracks that the flow drags onto a wrong but
   // forward-backward consistent match near their old pixel. So: a match farther from the box start
@@ -104,10 +108,6 @@ class ImageFrontend {
   // object stood still, and a match that stays there is taken; when both starts give consistent but
   // different matches, or standing still would have taken the point out of view, the track ends.
   // Ended tracks are counted in `ambiguous`.
-  // Removes from `indices` (into `kept`) the tracks of an object that its last known motion and the
-  // camera's motion take out of the image: a match found for them is a wrong one.
-  void dropLeavingTracks(int object_id, const SE3& T_prev_curr, const std::vector<Track>& kept,
-                         std::vector<size_t>* indices, int* left_view) const;
   void resolveStillHypothesis(const cv::Mat& gray, const std::vector<cv::Point2f>& prev_px,
                               const PixelPrediction& prediction, FlowResult* flow, int* ambiguous);
   PixelPrediction predictPixels(const std::optional<OdometryMeasurement>& odometry,

@@ -38,11 +38,8 @@ void PutPose(std::ostream& out, const SE3* H) {
 void WriteObjectTables(const std::string& dir, const std::string& suffix, const Sequence& seq, const Estimate& est) {
   const auto samples = BuildObjectSamples(seq, est);
   std::set<std::pair<int, int>> covered;
-  WholeFile motions = OpenCsv(dir + "/object_motions" + suffix + ".csv",
-                                  "frame,object_id,is_dynamic,est_tx,est_ty,est_tz,est_qx,est_qy,est_qz,est_qw,"
-                                  "gt_tx,gt_ty,gt_tz,gt_qx,gt_qy,gt_qz,gt_qw" + std::string(kMotionSigmaColumns));
-  WholeFile speeds = OpenCsv(dir + "/object_speeds" + suffix + ".csv",
-                                 "frame,object_id,is_dynamic,est_speed_mps,gt_speed_mps" + std::string(kSpeedSigmaColumn));
+  WholeFile motions = OpenCsv(dir + "/object_motions" + suffix + ".csv", kObjectMotionsHeader);
+  WholeFile speeds = OpenCsv(dir + "/object_speeds" + suffix + ".csv", kObjectSpeedsHeader);
   for (const auto& s : samples) {
     covered.insert({s.object_id, s.frame});
     motions << s.frame << ',' << s.object_id << ',' << (s.estimated ? std::to_string(s.est_dynamic) : "");

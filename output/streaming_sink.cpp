@@ -38,12 +38,8 @@ void StreamingFileSink::open() {
   // The same formats (and, for the trajectories, the same number format) as the files written at the end.
   camera_ = Open(dir_ + "/camera_ours.tum", "", true);
   online_ = Open(dir_ + "/camera_ours_online.tum", "", true);
-  motions_ = Open(dir_ + "/object_motions.csv",
-                  "frame,object_id,is_dynamic,est_tx,est_ty,est_tz,est_qx,est_qy,est_qz,est_qw,"
-                  "gt_tx,gt_ty,gt_tz,gt_qx,gt_qy,gt_qz,gt_qw" + std::string(kMotionSigmaColumns),
-                  false);
-  speeds_ = Open(dir_ + "/object_speeds.csv",
-                 "frame,object_id,is_dynamic,est_speed_mps,gt_speed_mps" + std::string(kSpeedSigmaColumn), false);
+  motions_ = Open(dir_ + "/object_motions.csv", kObjectMotionsHeader, false);
+  speeds_ = Open(dir_ + "/object_speeds.csv", kObjectSpeedsHeader, false);
   points_ = Open(dir_ + "/map_points.csv", "frame,object_id,x,y,z", false);
 }
 

@@ -17,10 +17,13 @@ inline std::string FormatFixed(const std::optional<double>& value, int precision
   return s.str();
 }
 
-// The uncertainty columns of object_motions.csv (",est_sigma_tx,...,est_sigma_rz": the square roots of
-// the covariance's diagonal) and of object_speeds.csv (",speed_sigma_mps"): blank when unknown.
-constexpr const char* kMotionSigmaColumns = ",est_sigma_tx,est_sigma_ty,est_sigma_tz,est_sigma_rx,est_sigma_ry,est_sigma_rz";
-constexpr const char* kSpeedSigmaColumn = ",speed_sigma_mps";
+// The headers of object_motions.csv and object_speeds.csv, for every writer. The uncertainty columns
+// (est_sigma_*: the square roots of the motion covariance's diagonal; speed_sigma_mps) are blank when
+// unknown.
+constexpr const char* kObjectMotionsHeader =
+    "frame,object_id,is_dynamic,est_tx,est_ty,est_tz,est_qx,est_qy,est_qz,est_qw,"
+    "gt_tx,gt_ty,gt_tz,gt_qx,gt_qy,gt_qz,gt_qw,est_sigma_tx,est_sigma_ty,est_sigma_tz,est_sigma_rx,est_sigma_ry,est_sigma_rz";
+constexpr const char* kObjectSpeedsHeader = "frame,object_id,is_dynamic,est_speed_mps,gt_speed_mps,speed_sigma_mps";
 
 template <typename Covariance>
 void PutMotionSigmas(std::ostream& out, const Covariance* covariance) {
