@@ -15,19 +15,13 @@
 #include "pipeline/run_sequence.h"
 #include "simulation/kitti_replay.h"
 #include "support/no_display.h"
+#include "support/run_defaults.h"
 #include "support/temp_paths.h"
 
 namespace dslam {
 namespace {
 namespace fs = std::filesystem;
 const std::string kKitti = std::string(DSLAM_SHARED_DATA_DIR) + "/kitti_tracking";
-
-RunConfig ImageRunConfig() {
-  RunConfig config;
-  config.backend.default_mode = ParseMotionMode(kRunDefaultMode);
-  config.backend.schedule = ParseSchedule(RunCommandOptions().default_schedule.value());
-  return config;
-}
 
 class RenderedKittiSequence : public ::testing::TestWithParam<std::string> {};
 
@@ -41,7 +35,7 @@ TEST_P(RenderedKittiSequence, ImagePipelineMeetsTheTargetsOnVehicles) {
   std::ostringstream out, err;
   ASSERT_EQ(RunRenderSceneCommand(render, out, err), 0) << err.str();
 
-  const RunConfig config = ImageRunConfig();
+  const RunConfig config = test::DslamRunDefaults();
   ImageRunSummary summary;
   const Sequence images = RunImageFrontend(ImageDataset(dir, config.dataset), config, 0, nullptr, &summary);
   fs::remove_all(dir);

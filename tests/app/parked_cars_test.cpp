@@ -4,20 +4,18 @@
 // read as cars doing 20-45 km/h.
 #include <gtest/gtest.h>
 
-#include "app/run_command.h"
 #include "output/object_summary.h"
 #include "pipeline/image_run.h"
 #include "pipeline/run_sequence.h"
 #include "support/rendered_city.h"
+#include "support/run_defaults.h"
 
 namespace dslam {
 namespace {
 
 TEST(ParkedCars, NoParkedCarOfTheRenderedCityIsReportedMoving) {
   const std::string dir = test::RenderedCity("parked_cars_city", 60);
-  RunConfig config;
-  config.backend.default_mode = ParseMotionMode(kRunDefaultMode);
-  config.backend.schedule = ParseSchedule(RunCommandOptions().default_schedule.value());
+  const RunConfig config = test::DslamRunDefaults();
   const Sequence images = RunImageFrontend(ImageDataset(dir, config.dataset), config, 0, nullptr, nullptr);
   RunSequenceOptions run;
   run.methods = {Method::kOurs};

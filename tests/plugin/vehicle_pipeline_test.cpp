@@ -9,6 +9,7 @@
 #include "pipeline/image_run.h"
 #include "pipeline/run_sequence.h"
 #include "support/rendered_city.h"
+#include "support/run_defaults.h"
 #include "support/temp_paths.h"
 
 namespace dslam {
@@ -16,9 +17,7 @@ namespace {
 
 TEST(VehiclePipeline, MatchesTheOnlineEstimatesOfDslamRun) {
   const std::string dir = test::RenderedCity("pipeline_city", 15);
-  RunConfig config;
-  config.backend.default_mode = ParseMotionMode(kRunDefaultMode);
-  config.backend.schedule = ParseSchedule(RunCommandOptions().default_schedule.value());
+  const RunConfig config = test::DslamRunDefaults();
   const ImageDataset data(dir, config.dataset);
   RunSequenceOptions run;
   run.methods = {Method::kOurs};
