@@ -1,12 +1,16 @@
 // ServeNode's construction fails cleanly: an error naming what could not be created, no thread left
 // running (a reader that cannot be created used to end in std::terminate).
 #include "plugin/serve_node.h"
-#include "plugin/topics.h"
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include "app/dds_commands.h"
+#include "output/dir_lock.h"
+#include "plugin/topics.h"
 
 #include "support/child_process.h"
 #include "support/dds_domain.h"
@@ -52,6 +56,31 @@ TEST(ServeNode, AVehicleNameIsARos2NamespaceNotAPathOutOfOut) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("vehicle name '..' is not a ROS 2 namespace"), std::string::npos) << e.what();
   }
+}
+
+// README, "Exit status": `serve` exits 2 on bad options and 4 when it cannot run (an output folder in use).
+TEST(ServeCommand, ExitsTwoOnBadOptionsAndFourWhenItsOutputFolderIsInUse) {
+  const std::string dir = test::TempPath("serve_command_exit");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/calib.txt") << "P0: 721.5 0 609.6 0 0 721.5 172.9 0 0 0 1 0\n"
+                                    << "P1: 721.5 0 609.6 0 0 721.5 172.9 0 0 0 1 0\n"
+                                    << "P2: 721.5 0 609.6 0 0 721.5 172.9 0 0 0 1 0\n"
+                                    << "P3: 721.5 0 609.6 0 0 721.5 172.9 0 0 0 1 0\n"
+                                    << "R0_rect: 1 0 0 0 1 0 0 0 1\n";
+  ServeCommandOptions options;
+  options.calib_path = dir + "/calib.txt";
+  options.domain_id = test::DomainFor(test::DdsTestSlot::kServeNodeErrors);
+  options.profiles_file = std::string(DSLAM_SOURCE_DIR) + "/config/dds_profiles.xml";
+  options.vehicles = {"v"};
+  options.out_dir = dir + "/out";
+  options.max_run_s = 0.5;
+  std::ostringstream out, err;
+  ServeCommandOptions bad = options;
+  bad.max_pending_mb = 1;
+  EXPECT_EQ(RunServeCommand(bad, out, err), 2) << err.str();
+  const DirLock taken(options.out_dir + "/v");
+  EXPECT_EQ(RunServeCommand(options, out, err), 4) << err.str();
+  EXPECT_NE(err.str().find("is in use by another process"), std::string::npos) << err.str();
 }
 
 TEST(ServeNode, TwoNodesCannotWriteOneVehicleFolder) {

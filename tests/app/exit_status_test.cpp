@@ -1,0 +1,49 @@
+// The README's "Exit status" table, checked against the binary as a user runs it (`serve`'s status 4:
+// tests/plugin/serve_node_test.cpp).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "support/temp_paths.h"
+
+namespace dslam {
+namespace {
+
+// The exit status of `dslam ARGS` run by the shell with `env` before it; -1 when it did not exit (a crash).
+int Status(const std::string& args, const std::string& env = "") {
+  const std::string command = env + " " + DSLAM_BINARY + " " + args + " > /dev/null 2>&1";
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(ExitStatus, EveryCommandEndsWithAStatusOfTheReadmeTable) {
+  const std::string dir = test::TempPath("exit_status");
+  std::filesystem::create_directories(dir);
+  const std::string out = " --out " + dir + "/results";
+  // 0: done, --help included.
+  EXPECT_EQ(Status("--help"), 0);
+  EXPECT_EQ(Status("run --help"), 0);
+  EXPECT_EQ(Status("sim --frames 5 --quiet --no-figures" + out), 0);
+  // 2: bad input, named.
+  EXPECT_EQ(Status("nonsense"), 2);
+  EXPECT_EQ(Status("sim --no-such-option"), 2);
+  EXPECT_EQ(Status("sim --frames -3" + out), 2);
+  EXPECT_EQ(Status("sim --sigma nan" + out), 2);
+  EXPECT_EQ(Status("run --dataset " + dir + "/missing" + out), 2);
+  std::ofstream(dir + "/bad.yaml") << "backend: [unclosed\n";
+  EXPECT_EQ(Status("sim --frames 5 --config " + dir + "/bad.yaml" + out), 2);
+  std::ofstream(dir + "/a_file") << "x";
+  EXPECT_EQ(Status("sim --frames 5 --out " + dir + "/a_file/results"), 2);
+  EXPECT_EQ(Status("figures " + dir + "/missing"), 2);
+  // 3: results written, figures not drawn (no Xvfb to be found, no display).
+  EXPECT_EQ(Status("sim --frames 5 --quiet" + out, "env -u DISPLAY PATH=/nonexistent"), 3);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/results/metrics.json"));
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace dslam
