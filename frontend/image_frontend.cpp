@@ -123,7 +123,10 @@ FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
   if (prev_frame_index_ && !tracks_.empty()) {
     std::vector<cv::Point2f> prev_px;
     prev_px.reserve(tracks_.size());
-    for (const Track& t : tracks_) prev_px.push_back(t.px);
+    for (const Track& t : tracks_) {
+      prev_px.push_back(t.px);
+      if (t.object_id != 0) ++stats.object_counts[t.object_id].previous;
+    }
     const PixelPrediction prediction = predictPixels(frame.odometry, label_boxes);
     FlowResult flow = flow_.track(prev_gray_, gray, prev_px, prev_flow_to_next_, prediction.px);
     resolveStillHypothesis(gray, prev_px, prediction, &flow, &stats.ambiguous);

@@ -39,6 +39,7 @@ struct FrontendFrameStats {
   int ambiguous = 0;  // object tracks ended because a still and a moving start both matched (see ImageFrontend)
   std::vector<int> mask_labels;     // instance labels at least min_mask_area_pct of the image
   struct ObjectCounts {
+    int previous = 0;  // its tracks at the end of the previous frame: the tracks that could survive
     int flowed = 0;   // points the flow carried into this frame (forward-backward consistent)
     int tracked = 0;  // points carried over from the previous frame (after the mask, depth and RANSAC checks)
     int added = 0;    // new points

@@ -90,6 +90,10 @@ TEST(ImageFrontend, TracksTheWallAndTheMovingBoxWithTheirTrueMotions) {
       sum_dx += (p.p_camera - b->second).x();
     }
     ASSERT_GE(box_continued, 20) << k;
+    // The tracks it could continue are the previous measurement's; those that did, its tracked count.
+    const FrontendFrameStats::ObjectCounts& counts = frontend.lastStats().object_counts.at(1);
+    EXPECT_EQ(counts.previous, static_cast<int>(prev.objects[0].points.size())) << k;
+    EXPECT_EQ(counts.tracked, box_continued) << k;
     EXPECT_NEAR(sum_dx / box_continued, kBoxStepM - kCameraStepM, 0.003) << k;
     // Its motion fit goes downstream with it: the box's own step, camera motion removed, over the
     // tracks that carried on.
