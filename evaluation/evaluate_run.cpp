@@ -3,7 +3,34 @@
 #include <map>
 #include <utility>
 
+#include "geometry/velocity.h"
+
 namespace dslam {
+
+std::optional<ObjectPairSample> GroundTruthPair(const GroundTruth& gt, double frame_rate_hz, int object_id, int k) {
+  const auto it = gt.objects.find(object_id);
+  if (it == gt.objects.end()) return std::nullopt;
+  const ObjectGroundTruth& obj = it->second;
+  if (!obj.observed_frames.count(k) || !obj.observed_frames.count(k - 1)) return std::nullopt;
+  ObjectPairSample s;
+  s.object_id = object_id;
+  s.frame = k;
+  const SE3& L_prev = obj.L_world_object.at(k - 1);
+  s.L_world_object_gt_prev = L_prev;
+  s.H_world_gt = obj.L_world_object.at(k) * L_prev.inverse();
+  const Vec3& c_prev = obj.centroid_world.at(k - 1);
+  s.speed_gt_mps = (s.H_world_gt * c_prev - c_prev).norm() * frame_rate_hz;
+  return s;
+}
+
+void SetEstimate(const ObjectMotionEstimate& motion, ObjectPairSample* s) {
+  s->estimated = true;
+  s->H_world_est = motion.H_world;
+  s->speed_est_mps = motion.speed_mps;
+  s->est_dynamic = motion.is_dynamic;
+  s->covariance_est = motion.covariance;
+  s->speed_sigma_est_mps = motion.speed_sigma_mps;
+}
 
 std::vector<ObjectPairSample> BuildObjectSamples(const Sequence& seq, const Estimate& est, const std::string& category) {
   std::map<std::pair<int, int>, const ObjectMotionEstimate*> by_key;
@@ -12,25 +39,11 @@ std::vector<ObjectPairSample> BuildObjectSamples(const Sequence& seq, const Esti
   for (const auto& [id, obj] : seq.gt.objects) {
     if (!category.empty() && obj.category != category) continue;
     for (int k : obj.observed_frames) {
-      if (!obj.observed_frames.count(k - 1)) continue;
-      ObjectPairSample s;
-      s.object_id = id;
-      s.frame = k;
-      const SE3& L_prev = obj.L_world_object.at(k - 1);
-      s.L_world_object_gt_prev = L_prev;
-      s.H_world_gt = obj.L_world_object.at(k) * L_prev.inverse();
-      const Vec3& c_prev = obj.centroid_world.at(k - 1);
-      s.speed_gt_mps = (s.H_world_gt * c_prev - c_prev).norm() * seq.frame_rate_hz;
+      std::optional<ObjectPairSample> s = GroundTruthPair(seq.gt, seq.frame_rate_hz, id, k);
+      if (!s) continue;
       const auto it = by_key.find({id, k});
-      if (it != by_key.end()) {
-        s.estimated = true;
-        s.H_world_est = it->second->H_world;
-        s.speed_est_mps = it->second->speed_mps;
-        s.est_dynamic = it->second->is_dynamic;
-        s.covariance_est = it->second->covariance;
-        s.speed_sigma_est_mps = it->second->speed_sigma_mps;
-      }
-      samples.push_back(s);
+      if (it != by_key.end()) SetEstimate(*it->second, &*s);
+      samples.push_back(*s);
     }
   }
   return samples;
@@ -40,17 +53,57 @@ MethodMetrics EvaluateEstimate(const Sequence& seq, const Estimate& est, bool es
                                const std::string& category) {
   MethodMetrics m;
   m.camera = ComputeCameraMetrics(seq.gt.T_world_camera, est.T_world_camera);
-  std::vector<std::pair<Vec3, Vec3>> structure;
-  structure.reserve(est.points.size());
+  RseAccumulator rse;
   for (const auto& p : est.points) {
     Vec3 p_gt_world;
     if (!seq.gt.pointWorld(p.track_id, p.frame, &p_gt_world)) continue;
-    structure.emplace_back(est.T_world_camera[p.frame].inverse() * p.p_world,
-                           seq.gt.T_world_camera[p.frame].inverse() * p_gt_world);
+    rse.add(est.T_world_camera[p.frame].inverse() * p.p_world, seq.gt.T_world_camera[p.frame].inverse() * p_gt_world);
   }
-  m.rse_pct = ComputeRsePct(structure);
+  m.rse_pct = rse.result();
   if (estimates_objects) m.objects = ComputeObjectMetrics(BuildObjectSamples(seq, est, category));
   return m;
+}
+
+void ObjectSummaries::add(const ObjectPairSample& s, const std::string& category) {
+  addPair(s.object_id, category);
+  if (s.estimated) addEstimate(s);
+}
+
+void ObjectSummaries::addPair(int object_id, const std::string& category) {
+  PerObject& o = objects_[object_id];
+  o.category = category;
+  o.metrics.addPair();
+}
+
+void ObjectSummaries::addEstimate(const ObjectPairSample& s) {
+  PerObject& o = objects_[s.object_id];
+  o.metrics.addEstimate(s);
+  o.sum_gt_mps += s.speed_gt_mps;
+  o.sum_est_mps += s.speed_est_mps;
+}
+
+std::vector<ObjectSummary> ObjectSummaries::result() const {
+  std::vector<ObjectSummary> out;
+  for (const auto& [id, o] : objects_) {
+    ObjectSummary summary;
+    summary.object_id = id;
+    summary.category = o.category;
+    summary.metrics = o.metrics.result();
+    summary.gt_pairs = summary.metrics.gt_pairs;
+    summary.frames_estimated = summary.metrics.estimated_pairs;
+    if (summary.frames_estimated > 0) {
+      summary.mean_gt_speed_kmh = o.sum_gt_mps / summary.frames_estimated * kMpsToKmh;
+      summary.mean_est_speed_kmh = o.sum_est_mps / summary.frames_estimated * kMpsToKmh;
+    }
+    out.push_back(summary);
+  }
+  return out;
+}
+
+std::vector<ObjectSummary> SummariseObjects(const Sequence& seq, const Estimate& est) {
+  ObjectSummaries summaries;
+  for (const auto& s : BuildObjectSamples(seq, est)) summaries.add(s, seq.gt.objects.at(s.object_id).category);
+  return summaries.result();
 }
 
 }  // namespace dslam

@@ -5,42 +5,60 @@
 
 namespace dslam {
 
-CameraMetrics ComputeCameraMetrics(const std::vector<SE3>& gt, const std::vector<SE3>& est) {
-  if (gt.size() != est.size())
-    throw std::invalid_argument("camera metrics: " + std::to_string(est.size()) + " estimated poses for " +
-                                std::to_string(gt.size()) + " ground-truth poses");
-  CameraMetrics m;
-  double sum_t = 0.0, sum_r_deg = 0.0, sum_sq_ate = 0.0;
-  for (size_t k = 0; k < gt.size(); ++k) {
-    sum_sq_ate += (gt[k].translation() - est[k].translation()).squaredNorm();
-    if (k == 0) continue;
-    const SE3 d_gt = gt[k - 1].inverse() * gt[k];
-    const SE3 d_est = est[k - 1].inverse() * est[k];
+void CameraMetricsAccumulator::add(const SE3& gt, const SE3& est) {
+  sum_sq_ate_ += (gt.translation() - est.translation()).squaredNorm();
+  if (poses_ > 0) {
+    const SE3 d_gt = gt_prev_.inverse() * gt;
+    const SE3 d_est = est_prev_.inverse() * est;
     const SE3 e = d_gt.inverse() * d_est;
-    m.path_length_m += d_gt.translation().norm();
-    sum_t += e.translation().norm();
-    sum_r_deg += e.angle() * kRadToDeg;
+    path_length_m_ += d_gt.translation().norm();
+    sum_t_ += e.translation().norm();
+    sum_r_deg_ += e.angle() * kRadToDeg;
   }
-  if (!gt.empty()) m.ate_m = std::sqrt(sum_sq_ate / static_cast<double>(gt.size()));
-  const double steps = gt.size() > 1 ? static_cast<double>(gt.size() - 1) : 0.0;
-  if (m.path_length_m >= kMinPathForRelativeErrorM) {
-    m.rte_pct = 100.0 * sum_t / m.path_length_m;
-    m.rre_deg_per_m = sum_r_deg / m.path_length_m;
+  gt_prev_ = gt;
+  est_prev_ = est;
+  ++poses_;
+}
+
+CameraMetrics CameraMetricsAccumulator::result() const {
+  CameraMetrics m;
+  m.path_length_m = path_length_m_;
+  if (poses_ > 0) m.ate_m = std::sqrt(sum_sq_ate_ / static_cast<double>(poses_));
+  const double steps = poses_ > 1 ? static_cast<double>(poses_ - 1) : 0.0;
+  if (path_length_m_ >= kMinPathForRelativeErrorM) {
+    m.rte_pct = 100.0 * sum_t_ / path_length_m_;
+    m.rre_deg_per_m = sum_r_deg_ / path_length_m_;
   } else if (steps > 0) {
-    m.mean_step_te_m = sum_t / steps;
-    m.mean_step_re_deg = sum_r_deg / steps;
+    m.mean_step_te_m = sum_t_ / steps;
+    m.mean_step_re_deg = sum_r_deg_ / steps;
   }
   return m;
 }
 
+CameraMetrics ComputeCameraMetrics(const std::vector<SE3>& gt, const std::vector<SE3>& est) {
+  if (gt.size() != est.size())
+    throw std::invalid_argument("camera metrics: " + std::to_string(est.size()) + " estimated poses for " +
+                                std::to_string(gt.size()) + " ground-truth poses");
+  CameraMetricsAccumulator acc;
+  for (size_t k = 0; k < gt.size(); ++k) acc.add(gt[k], est[k]);
+  return acc.result();
+}
+
+void RseAccumulator::add(const Vec3& est, const Vec3& gt) {
+  sum_error_m_ += (est - gt).norm();
+  sum_gt_m_ += gt.norm();
+  ++pairs_;
+}
+
+std::optional<double> RseAccumulator::result() const {
+  if (pairs_ == 0 || sum_gt_m_ <= 0.0) return std::nullopt;
+  return 100.0 * sum_error_m_ / sum_gt_m_;
+}
+
 std::optional<double> ComputeRsePct(const std::vector<std::pair<Vec3, Vec3>>& pairs) {
-  double num = 0.0, den = 0.0;
-  for (const auto& [est, gt] : pairs) {
-    num += (est - gt).norm();
-    den += gt.norm();
-  }
-  if (pairs.empty() || den <= 0.0) return std::nullopt;
-  return 100.0 * num / den;
+  RseAccumulator acc;
+  for (const auto& [est, gt] : pairs) acc.add(est, gt);
+  return acc.result();
 }
 
 SE3 ObjectMotionError(const ObjectPairSample& s) {
@@ -50,47 +68,54 @@ SE3 ObjectMotionError(const ObjectPairSample& s) {
   return body_gt.inverse() * body_est;
 }
 
-ObjectMetrics ComputeObjectMetrics(const std::vector<ObjectPairSample>& samples) {
-  ObjectMetrics m;
-  m.gt_pairs = static_cast<int>(samples.size());
-  double sum_e_t = 0.0, sum_e_r_deg = 0.0, sum_gt_t = 0.0, sum_speed_err = 0.0, sum_speed_gt = 0.0;
-  double sum_static_speed = 0.0;
-  int false_dynamic = 0;
-  for (const auto& s : samples) {
-    if (!s.estimated) continue;
-    ++m.estimated_pairs;
-    if (!s.gtMoving()) {
-      ++m.static_pairs_estimated;
-      sum_static_speed += s.speed_est_mps;
-      false_dynamic += s.est_dynamic;
-      continue;
-    }
-    ++m.moving_pairs_estimated;
-    const SE3 e = ObjectMotionError(s);
-    const SE3& L = s.L_world_object_gt_prev;
-    sum_e_t += e.translation().norm();
-    sum_e_r_deg += e.angle() * kRadToDeg;
-    sum_gt_t += (L.inverse() * s.H_world_gt * L).translation().norm();
-    sum_speed_err += std::abs(s.speed_est_mps - s.speed_gt_mps);
-    sum_speed_gt += s.speed_gt_mps;
+void ObjectMetricsAccumulator::add(const ObjectPairSample& s) {
+  addPair();
+  if (s.estimated) addEstimate(s);
+}
+
+void ObjectMetricsAccumulator::addEstimate(const ObjectPairSample& s) {
+  ++counts_.estimated_pairs;
+  if (!s.gtMoving()) {
+    ++counts_.static_pairs_estimated;
+    sum_static_speed_ += s.speed_est_mps;
+    false_dynamic_ += s.est_dynamic;
+    return;
   }
+  ++counts_.moving_pairs_estimated;
+  const SE3 e = ObjectMotionError(s);
+  const SE3& L = s.L_world_object_gt_prev;
+  sum_e_t_ += e.translation().norm();
+  sum_e_r_deg_ += e.angle() * kRadToDeg;
+  sum_gt_t_ += (L.inverse() * s.H_world_gt * L).translation().norm();
+  sum_speed_err_ += std::abs(s.speed_est_mps - s.speed_gt_mps);
+  sum_speed_gt_ += s.speed_gt_mps;
+}
+
+ObjectMetrics ObjectMetricsAccumulator::result() const {
+  ObjectMetrics m = counts_;
   if (m.gt_pairs > 0) m.object_coverage = static_cast<double>(m.estimated_pairs) / m.gt_pairs;
   if (m.moving_pairs_estimated > 0) {
     const double n = m.moving_pairs_estimated;
-    if (sum_gt_t > 0.0) {
-      m.omte_pct = 100.0 * sum_e_t / sum_gt_t;
-      m.omre_deg_per_m = sum_e_r_deg / sum_gt_t;
+    if (sum_gt_t_ > 0.0) {
+      m.omte_pct = 100.0 * sum_e_t_ / sum_gt_t_;
+      m.omre_deg_per_m = sum_e_r_deg_ / sum_gt_t_;
     }
-    if (sum_speed_gt > 0.0) m.omse_pct = 100.0 * sum_speed_err / sum_speed_gt;
-    m.me_t_m = sum_e_t / n;
-    m.me_r_deg = sum_e_r_deg / n;
-    m.speed_err_mps = sum_speed_err / n;
+    if (sum_speed_gt_ > 0.0) m.omse_pct = 100.0 * sum_speed_err_ / sum_speed_gt_;
+    m.me_t_m = sum_e_t_ / n;
+    m.me_r_deg = sum_e_r_deg_ / n;
+    m.speed_err_mps = sum_speed_err_ / n;
   }
   if (m.static_pairs_estimated > 0) {
-    m.static_mean_speed_mps = sum_static_speed / m.static_pairs_estimated;
-    m.static_false_dynamic_frac = static_cast<double>(false_dynamic) / m.static_pairs_estimated;
+    m.static_mean_speed_mps = sum_static_speed_ / m.static_pairs_estimated;
+    m.static_false_dynamic_frac = static_cast<double>(false_dynamic_) / m.static_pairs_estimated;
   }
   return m;
+}
+
+ObjectMetrics ComputeObjectMetrics(const std::vector<ObjectPairSample>& samples) {
+  ObjectMetricsAccumulator acc;
+  for (const auto& s : samples) acc.add(s);
+  return acc.result();
 }
 
 }  // namespace dslam

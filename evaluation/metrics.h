@@ -23,12 +23,35 @@ struct CameraMetrics {
   double ate_m = 0.0;  // RMSE of positions, no alignment
 };
 
+// The camera metrics accumulated pose by pose in frame order, so that a long run keeps no trajectory.
+class CameraMetricsAccumulator {
+ public:
+  void add(const SE3& T_world_camera_gt, const SE3& T_world_camera_est);
+  int poses() const { return poses_; }
+  CameraMetrics result() const;
+
+ private:
+  int poses_ = 0;
+  SE3 gt_prev_, est_prev_;
+  double path_length_m_ = 0.0, sum_t_ = 0.0, sum_r_deg_ = 0.0, sum_sq_ate_ = 0.0;
+};
+
 // Poses per frame; both vectors must have the same size (throws std::invalid_argument otherwise).
 CameraMetrics ComputeCameraMetrics(const std::vector<SE3>& T_world_camera_gt, const std::vector<SE3>& T_world_camera_est);
 
 // RSE (%) = 100 * sum |p_est - p_gt| / sum |p_gt| over observations, points in the observing camera's frame.
 // Pairs are (p_est, p_gt); nullopt when empty.
 std::optional<double> ComputeRsePct(const std::vector<std::pair<Vec3, Vec3>>& p_est_gt_camera);
+
+class RseAccumulator {
+ public:
+  void add(const Vec3& p_est_camera, const Vec3& p_gt_camera);
+  std::optional<double> result() const;
+
+ private:
+  int pairs_ = 0;
+  double sum_error_m_ = 0.0, sum_gt_m_ = 0.0;
+};
 
 // One object over one ground-truth frame pair k-1 -> k.
 struct ObjectPairSample {
@@ -65,6 +88,24 @@ struct ObjectMetrics {
 
 // Body-frame motion error E = H_body_gt^-1 * H_body_est with H_body = L_prev^-1 * H_world * L_prev.
 SE3 ObjectMotionError(const ObjectPairSample& s);
+
+// The object metrics accumulated sample by sample, in any order.
+class ObjectMetricsAccumulator {
+ public:
+  // A ground-truth pair and, when it has one, its estimate.
+  void add(const ObjectPairSample& sample);
+  // The same in two steps, for a run that knows its pairs before their estimates are final: every
+  // pair once, and later the estimated ones.
+  void addPair() { ++counts_.gt_pairs; }
+  void addEstimate(const ObjectPairSample& sample);
+  ObjectMetrics result() const;
+
+ private:
+  ObjectMetrics counts_;  // the counters; the ratios are formed in result()
+  double sum_e_t_ = 0.0, sum_e_r_deg_ = 0.0, sum_gt_t_ = 0.0, sum_speed_err_ = 0.0, sum_speed_gt_ = 0.0;
+  double sum_static_speed_ = 0.0;
+  int false_dynamic_ = 0;
+};
 
 ObjectMetrics ComputeObjectMetrics(const std::vector<ObjectPairSample>& samples);
 

@@ -9,40 +9,12 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "evaluation/evaluate_run.h"
-#include "geometry/velocity.h"
 #include "output/text_format.h"
 
 namespace dslam {
 namespace {
 std::string Num(const std::optional<double>& v, int precision) { return FormatFixed(v, precision, ""); }
 }  // namespace
-
-std::vector<ObjectSummary> SummariseObjects(const Sequence& seq, const Estimate& est) {
-  std::map<int, std::vector<ObjectPairSample>> by_object;
-  for (const auto& s : BuildObjectSamples(seq, est)) by_object[s.object_id].push_back(s);
-  std::vector<ObjectSummary> out;
-  for (const auto& [id, samples] : by_object) {
-    ObjectSummary summary;
-    summary.object_id = id;
-    summary.category = seq.gt.objects.at(id).category;
-    summary.gt_pairs = static_cast<int>(samples.size());
-    summary.metrics = ComputeObjectMetrics(samples);
-    summary.frames_estimated = summary.metrics.estimated_pairs;
-    double gt = 0.0, estimated = 0.0;
-    for (const auto& s : samples) {
-      if (!s.estimated) continue;
-      gt += s.speed_gt_mps;
-      estimated += s.speed_est_mps;
-    }
-    if (summary.frames_estimated > 0) {
-      summary.mean_gt_speed_kmh = gt / summary.frames_estimated * kMpsToKmh;
-      summary.mean_est_speed_kmh = estimated / summary.frames_estimated * kMpsToKmh;
-    }
-    out.push_back(summary);
-  }
-  return out;
-}
 
 void WriteObjectsCsv(const std::string& path, const std::vector<ObjectSummary>& objects) {
   WholeFile out(path);

@@ -232,28 +232,30 @@ std::vector<std::string> ScenarioNames() { return {"paper", "city", "crossing"};
 
 std::string ScenarioDefaultMotionMode(const std::string& name) { return name == "paper" ? "constant" : "smoothed"; }
 
-Sequence MakeScenario(const std::string& name, const ScenarioOptions& options) {
+SensorSimulator MakeScenarioSimulator(const std::string& name, const ScenarioOptions& options) {
   if (options.num_frames < 0) throw std::invalid_argument("number of frames must be >= 0");
-  // A simulated run keeps every frame for the evaluation at the end (about 110 KB a frame on the city).
+  // The world (every object's pose in every frame it exists) is built before the first frame.
   if (options.num_frames > kMaxScenarioFrames)
-    throw std::invalid_argument("number of frames must be at most " + std::to_string(kMaxScenarioFrames) +
-                                " (a simulated run keeps every frame, about 110 KB each, for its evaluation)");
+    throw std::invalid_argument("number of frames must be at most " + std::to_string(kMaxScenarioFrames));
   SensorModel sensor;
-  if (name == "paper") {
-    return SimulateSensor(PaperWorld(options.num_frames > 0 ? options.num_frames : 100), sensor, options.noise,
-                          options.seed);
-  }
+  if (name == "paper")
+    return SensorSimulator(PaperWorld(options.num_frames > 0 ? options.num_frames : 100), sensor, options.noise,
+                           options.seed);
   if (name == "city") {
     sensor.object_max_range_m = 30.0;  // long enough to watch the stopping car park
-    return SimulateSensor(CityWorld(options.num_frames > 0 ? options.num_frames : 200, options.seed),
-                          sensor, options.noise, options.seed);
+    return SensorSimulator(CityWorld(options.num_frames > 0 ? options.num_frames : 200, options.seed), sensor,
+                           options.noise, options.seed);
   }
   if (name == "crossing") {
     sensor.object_max_range_m = 30.0;  // the crossing cars are seen before they reach the camera's street
-    return SimulateSensor(CrossingWorld(options.num_frames > 0 ? options.num_frames : 200, options.seed), sensor,
-                          options.noise, options.seed);
+    return SensorSimulator(CrossingWorld(options.num_frames > 0 ? options.num_frames : 200, options.seed), sensor,
+                           options.noise, options.seed);
   }
   throw std::invalid_argument("unknown scenario '" + name + "' (expected paper, city or crossing)");
+}
+
+Sequence MakeScenario(const std::string& name, const ScenarioOptions& options) {
+  return MakeScenarioSimulator(name, options).drain();
 }
 
 }  // namespace dslam

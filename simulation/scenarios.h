@@ -28,6 +28,9 @@ struct ScenarioOptions {
 
 std::vector<std::string> ScenarioNames();
 // Throws std::invalid_argument for an unknown name or bad options.
+// The scenario's frames one at a time (long runs).
+SensorSimulator MakeScenarioSimulator(const std::string& name, const ScenarioOptions& options);
+// All of them at once.
 Sequence MakeScenario(const std::string& name, const ScenarioOptions& options);
 // The motion model the scenario is meant for ("constant" for paper, "smoothed" for city and crossing).
 std::string ScenarioDefaultMotionMode(const std::string& name);

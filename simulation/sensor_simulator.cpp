@@ -1,6 +1,7 @@
 #include "simulation/sensor_simulator.h"
 
 #include <algorithm>
+#include <memory>
 #include <random>
 #include <unordered_map>
 #include <stdexcept>
@@ -15,9 +16,11 @@ Vec3 GaussianVec3(std::mt19937_64& rng, double sigma) {
   return Vec3(n(rng), n(rng), n(rng));
 }
 
+}  // namespace
+
 // The static points within `range` of a position, in index order (the order noise is drawn in), through
 // a uniform grid of cells `range` wide: a frame looks at 27 cells, not at the whole world.
-class StaticPointIndex {
+class SensorSimulator::StaticPointIndex {
  public:
   StaticPointIndex(const std::unordered_map<int64_t, Vec3>& points_world, double range) : cell_(range) {
     for (const auto& [id, p] : points_world) cells_[key(cellOf(p))].push_back(id);
@@ -44,8 +47,6 @@ class StaticPointIndex {
   std::unordered_map<int64_t, std::vector<int64_t>> cells_;
 };
 
-}  // namespace
-
 OdometryMeasurement NoisyOdometry(const SE3& T_prev_curr_true, const SimNoise& noise, std::mt19937_64& rng) {
   OdometryMeasurement odom;
   const double sigma_t =
@@ -66,7 +67,8 @@ void SimNoise::validate() const {
     throw std::invalid_argument("odometry noise floors must be positive");
 }
 
-Sequence SimulateSensor(const SimWorld& world, const SensorModel& sensor, const SimNoise& noise, uint64_t seed) {
+SensorSimulator::SensorSimulator(SimWorld world, const SensorModel& sensor, const SimNoise& noise, uint64_t seed)
+    : name_(world.name), frame_rate_hz_(world.frame_rate_hz), sensor_(sensor), noise_(noise), rng_(seed) {
   noise.validate();
   const int num_frames = static_cast<int>(world.T_world_camera.size());
   if (num_frames < 2) throw std::invalid_argument("a simulated sequence needs at least 2 frames");
@@ -76,20 +78,16 @@ Sequence SimulateSensor(const SimWorld& world, const SensorModel& sensor, const 
         throw std::invalid_argument("object " + std::to_string(obj.object_id) + " has a pose for frame " +
                                     std::to_string(k) + " outside the sequence");
 
-  std::mt19937_64 rng(seed);
   // World = the first camera frame.
   const SE3 T_new_old = world.T_world_camera.front().inverse();
-
-  Sequence seq;
-  seq.name = world.name;
-  seq.frame_rate_hz = world.frame_rate_hz;
-  GroundTruth& gt = seq.gt;
-  for (const SE3& T : world.T_world_camera) gt.T_world_camera.push_back(T_new_old * T);
+  for (const SE3& T : world.T_world_camera) gt_.T_world_camera.push_back(T_new_old * T);
+  world.T_world_camera = {};
   for (size_t i = 0; i < world.static_points_world.size(); ++i)
-    gt.static_points_world[static_cast<int64_t>(i)] = T_new_old * world.static_points_world[i];
+    gt_.static_points_world[static_cast<int64_t>(i)] = T_new_old * world.static_points_world[i];
+  world.static_points_world = {};
   for (size_t j = 0; j < world.objects.size(); ++j) {
-    const SimObject& obj = world.objects[j];
-    ObjectGroundTruth& o = gt.objects[obj.object_id];
+    SimObject& obj = world.objects[j];
+    ObjectGroundTruth& o = gt_.objects[obj.object_id];
     o.object_id = obj.object_id;
     o.category = obj.category;
     o.box_lwh = obj.box_lwh;
@@ -98,50 +96,72 @@ Sequence SimulateSensor(const SimWorld& world, const SensorModel& sensor, const 
       o.centroid_world[k] = o.L_world_object[k] * obj.centroid_body;
     }
     for (size_t i = 0; i < obj.surface.size(); ++i)
-      gt.object_points[kObjectTrackBase + static_cast<int64_t>(j) * kTracksPerObject + static_cast<int64_t>(i)] = {
+      gt_.object_points[kObjectTrackBase + static_cast<int64_t>(j) * kTracksPerObject + static_cast<int64_t>(i)] = {
           obj.object_id, obj.surface[i].p_body};
+    Body body{obj.object_id, 0, -1, std::move(obj.surface), std::move(obj.occluded_frames)};
+    if (!obj.L_world_object.empty())
+      body.first_frame = obj.L_world_object.begin()->first, body.last_frame = obj.L_world_object.rbegin()->first;
+    obj.L_world_object.clear();  // the ground truth holds the poses: one copy of the world
+    bodies_.push_back(std::move(body));
+  }
+  static_index_ = std::make_unique<StaticPointIndex>(gt_.static_points_world, sensor_.static_max_range_m);
+}
+
+SensorSimulator::~SensorSimulator() = default;
+SensorSimulator::SensorSimulator(SensorSimulator&&) noexcept = default;
+
+FrameMeasurement SensorSimulator::next() {
+  if (done()) throw std::logic_error("the simulated sequence has no frame " + std::to_string(next_frame_));
+  const int k = next_frame_++;
+  FrameMeasurement frame;
+  frame.frame_index = k;
+  frame.t_ns = static_cast<int64_t>(k * 1e9 / frame_rate_hz_);
+  const SE3 T_camera_world = gt_.T_world_camera[k].inverse();
+  if (k > 0) frame.odometry = NoisyOdometry(gt_.T_world_camera[k - 1].inverse() * gt_.T_world_camera[k], noise_, rng_);
+
+  for (int64_t i : static_index_->near(gt_.T_world_camera[k].translation())) {
+    const Vec3 p = T_camera_world * gt_.static_points_world.at(i);
+    if (p.z() < sensor_.min_depth_m || p.norm() > sensor_.static_max_range_m || !sensor_.camera.inImage(p)) continue;
+    frame.static_points.push_back({i, p + GaussianVec3(rng_, noise_.point_sigma_m)});
   }
 
-  const StaticPointIndex static_index(gt.static_points_world, sensor.static_max_range_m);
-  for (int k = 0; k < num_frames; ++k) {
-    FrameMeasurement frame;
-    frame.frame_index = k;
-    frame.t_ns = static_cast<int64_t>(k * 1e9 / world.frame_rate_hz);
-    const SE3 T_camera_world = gt.T_world_camera[k].inverse();
-    if (k > 0) frame.odometry = NoisyOdometry(gt.T_world_camera[k - 1].inverse() * gt.T_world_camera[k], noise, rng);
-
-    for (int64_t i : static_index.near(gt.T_world_camera[k].translation())) {
-      const Vec3 p = T_camera_world * gt.static_points_world.at(i);
-      if (p.z() < sensor.min_depth_m || p.norm() > sensor.static_max_range_m || !sensor.camera.inImage(p)) continue;
-      frame.static_points.push_back({i, p + GaussianVec3(rng, noise.point_sigma_m)});
+  for (size_t j = 0; j < bodies_.size(); ++j) {
+    const Body& body = bodies_[j];
+    if (k < body.first_frame || k > body.last_frame || body.occluded_frames.count(k)) continue;
+    ObjectGroundTruth& o = gt_.objects[body.object_id];
+    const auto pose = o.L_world_object.find(k);
+    if (pose == o.L_world_object.end()) continue;
+    if ((T_camera_world * o.centroid_world.at(k)).norm() >= sensor_.object_max_range_m) continue;
+    const SE3 T_camera_object = T_camera_world * pose->second;
+    const Vec3 camera_in_object = T_camera_object.inverse().translation();
+    ObjectObservation obs;
+    obs.object_id = body.object_id;
+    for (size_t i = 0; i < body.surface.size(); ++i) {
+      const SurfacePoint& s = body.surface[i];
+      if (s.normal_body.dot(camera_in_object - s.p_body) <= 0.0) continue;  // back face
+      const Vec3 p = T_camera_object * s.p_body;
+      if (p.z() < sensor_.min_depth_m || !sensor_.camera.inImage(p)) continue;
+      obs.points.push_back({kObjectTrackBase + static_cast<int64_t>(j) * kTracksPerObject + static_cast<int64_t>(i),
+                            p + GaussianVec3(rng_, noise_.point_sigma_m)});
     }
-
-    for (size_t j = 0; j < world.objects.size(); ++j) {
-      const SimObject& obj = world.objects[j];
-      if (obj.L_world_object.empty() || k < obj.L_world_object.begin()->first || k > obj.L_world_object.rbegin()->first)
-        continue;
-      ObjectGroundTruth& o = gt.objects[obj.object_id];
-      if (obj.occluded_frames.count(k) || !o.L_world_object.count(k)) continue;
-      if ((T_camera_world * o.centroid_world[k]).norm() >= sensor.object_max_range_m) continue;
-      const SE3 T_camera_object = T_camera_world * o.L_world_object[k];
-      const Vec3 camera_in_object = T_camera_object.inverse().translation();
-      ObjectObservation obs;
-      obs.object_id = obj.object_id;
-      for (size_t i = 0; i < obj.surface.size(); ++i) {
-        const SurfacePoint& s = obj.surface[i];
-        if (s.normal_body.dot(camera_in_object - s.p_body) <= 0.0) continue;  // back face
-        const Vec3 p = T_camera_object * s.p_body;
-        if (p.z() < sensor.min_depth_m || !sensor.camera.inImage(p)) continue;
-        obs.points.push_back({kObjectTrackBase + static_cast<int64_t>(j) * kTracksPerObject + static_cast<int64_t>(i),
-                              p + GaussianVec3(rng, noise.point_sigma_m)});
-      }
-      if (static_cast<int>(obs.points.size()) < sensor.min_object_points) continue;
-      o.observed_frames.insert(k);
-      frame.objects.push_back(std::move(obs));
-    }
-    seq.frames.push_back(std::move(frame));
+    if (static_cast<int>(obs.points.size()) < sensor_.min_object_points) continue;
+    o.observed_frames.insert(k);
+    frame.objects.push_back(std::move(obs));
   }
+  return frame;
+}
+
+Sequence SensorSimulator::drain() {
+  Sequence seq;
+  seq.name = name_;
+  seq.frame_rate_hz = frame_rate_hz_;
+  while (!done()) seq.frames.push_back(next());
+  seq.gt = std::move(gt_);
   return seq;
+}
+
+Sequence SimulateSensor(SimWorld world, const SensorModel& sensor, const SimNoise& noise, uint64_t seed) {
+  return SensorSimulator(std::move(world), sensor, noise, seed).drain();
 }
 
 }  // namespace dslam

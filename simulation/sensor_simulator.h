@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <random>
 #include <set>
@@ -55,6 +56,47 @@ struct SimWorld {
 // the true increment perturbed on the right.
 OdometryMeasurement NoisyOdometry(const SE3& T_prev_curr_true, const SimNoise& noise, std::mt19937_64& rng);
 
-Sequence SimulateSensor(const SimWorld& world, const SensorModel& sensor, const SimNoise& noise, uint64_t seed);
+// Measures a world frame by frame, so that a long run holds one frame's measurement at a time. The
+// ground truth (poses, points, boxes; re-expressed in camera 0) exists from the start, except which
+// frames saw each object: `observed_frames` grows as frames are made.
+class SensorSimulator {
+ public:
+  // Throws std::invalid_argument for bad noise, fewer than 2 frames or object poses outside the sequence.
+  SensorSimulator(SimWorld world, const SensorModel& sensor, const SimNoise& noise, uint64_t seed);
+  ~SensorSimulator();
+  SensorSimulator(SensorSimulator&&) noexcept;
+
+  const std::string& name() const { return name_; }
+  double frameRateHz() const { return frame_rate_hz_; }
+  int numFrames() const { return static_cast<int>(gt_.T_world_camera.size()); }
+  int framesMade() const { return next_frame_; }
+  bool done() const { return next_frame_ >= numFrames(); }
+  const GroundTruth& groundTruth() const { return gt_; }
+  // Measures the next frame (std::logic_error when done()) and records the objects it saw.
+  FrameMeasurement next();
+  // The remaining frames and the ground truth as one sequence; the simulator is spent after it.
+  Sequence drain();
+
+ private:
+  class StaticPointIndex;
+  struct Body {  // what the sensor needs of an object besides its ground-truth poses
+    int object_id;
+    int first_frame, last_frame;
+    std::vector<SurfacePoint> surface;
+    std::set<int> occluded_frames;
+  };
+  std::string name_;
+  double frame_rate_hz_;
+  SensorModel sensor_;
+  SimNoise noise_;
+  std::mt19937_64 rng_;
+  GroundTruth gt_;
+  std::vector<Body> bodies_;  // in the world's object order (the order noise is drawn in)
+  std::unique_ptr<StaticPointIndex> static_index_;
+  int next_frame_ = 0;
+};
+
+// All frames at once (short sequences, tests).
+Sequence SimulateSensor(SimWorld world, const SensorModel& sensor, const SimNoise& noise, uint64_t seed);
 
 }  // namespace dslam

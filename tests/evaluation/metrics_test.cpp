@@ -133,3 +133,39 @@ TEST(ObjectMetrics, NothingEstimatedGivesNoErrors) {
 
 }  // namespace
 }  // namespace dslam
+
+namespace dslam {
+namespace {
+// A run that streams its estimates knows its ground-truth pairs first and the estimates later, in
+// any order: the two-step accumulation must give what one pass gives.
+TEST(ObjectMetrics, PairsFirstAndEstimatesLaterInAnyOrderEqualOnePass) {
+  const std::vector<ObjectPairSample> samples = {Pair(At(1, 0, 0), At(1.1, 0, 0), 10.0, 11.0),
+                                                 Pair(At(0, 0, 2), At(0, 0, 2.3), 20.0, 23.0),
+                                                 Pair(At(0, 0, 2), At(0, 0, 2), 20.0, 0.0, false),
+                                                 Pair(At(0, 0, 0.01), At(0, 0.2, 0), 0.1, 2.0)};
+  const ObjectMetrics one_pass = ComputeObjectMetrics(samples);
+  ObjectMetricsAccumulator two_steps;
+  for (size_t i = 0; i < samples.size(); ++i) two_steps.addPair();
+  for (auto it = samples.rbegin(); it != samples.rend(); ++it)
+    if (it->estimated) two_steps.addEstimate(*it);
+  const ObjectMetrics m = two_steps.result();
+  EXPECT_EQ(m.gt_pairs, 4);
+  EXPECT_EQ(m.estimated_pairs, 3);
+  EXPECT_EQ(m.static_pairs_estimated, 1);
+  EXPECT_NEAR(*m.object_coverage, 0.75, 1e-12);
+  EXPECT_NEAR(*m.omte_pct, *one_pass.omte_pct, 1e-12);
+  EXPECT_NEAR(*m.omse_pct, *one_pass.omse_pct, 1e-12);
+  EXPECT_NEAR(*m.static_mean_speed_mps, 2.0, 1e-12);
+}
+
+TEST(CameraMetrics, TheAccumulatorCountsItsPoses) {
+  CameraMetricsAccumulator acc;
+  EXPECT_EQ(acc.result().ate_m, 0.0);
+  acc.add(At(0, 0, 0), At(0, 0, 0));
+  acc.add(At(0, 0, 2), At(0, 0, 2.2));
+  EXPECT_EQ(acc.poses(), 2);
+  EXPECT_NEAR(acc.result().ate_m, std::sqrt(0.04 / 2.0), 1e-12);
+  EXPECT_NEAR(*acc.result().rte_pct, 10.0, 1e-9);
+}
+}  // namespace
+}  // namespace dslam

@@ -189,6 +189,36 @@ TEST(Scenarios, ALongCityStoresItsParkedCarsOnlyWhereTheCameraPasses) {
   EXPECT_LT(parked_poses, static_cast<size_t>(parked) * kCityCycleFrames);
 }
 
+// A long run takes the scenario a frame at a time: the same frames as all at once, and the ground
+// truth of which frames saw each object only as far as the frames made.
+TEST(Scenarios, FrameByFrameEqualsAllAtOnceAndObservationsGrowWithTheFramesMade) {
+  ScenarioOptions opt;
+  opt.num_frames = 40;
+  const Sequence whole = MakeScenario("city", opt);
+  SensorSimulator simulator = MakeScenarioSimulator("city", opt);
+  EXPECT_EQ(simulator.numFrames(), 40);
+  EXPECT_EQ(simulator.groundTruth().T_world_camera.size(), 40u);
+  for (const auto& [id, obj] : simulator.groundTruth().objects) EXPECT_TRUE(obj.observed_frames.empty()) << id;
+  for (int k = 0; k < 40; ++k) {
+    const FrameMeasurement frame = simulator.next();
+    const FrameMeasurement& expected = whole.frames[k];
+    ASSERT_EQ(frame.frame_index, k);
+    ASSERT_EQ(frame.static_points.size(), expected.static_points.size()) << k;
+    ASSERT_EQ(frame.objects.size(), expected.objects.size()) << k;
+    for (size_t j = 0; j < frame.objects.size(); ++j) {
+      ASSERT_EQ(frame.objects[j].points.size(), expected.objects[j].points.size());
+      EXPECT_EQ(frame.objects[j].points.back().p_camera, expected.objects[j].points.back().p_camera);
+      const auto& observed = simulator.groundTruth().objects.at(frame.objects[j].object_id).observed_frames;
+      EXPECT_EQ(*observed.rbegin(), k);
+    }
+    if (k > 0) EXPECT_EQ(frame.odometry->T_prev_curr.translation(), expected.odometry->T_prev_curr.translation());
+  }
+  EXPECT_TRUE(simulator.done());
+  EXPECT_THROW(simulator.next(), std::logic_error);
+  for (const auto& [id, obj] : whole.gt.objects)
+    EXPECT_EQ(simulator.groundTruth().objects.at(id).observed_frames, obj.observed_frames) << id;
+}
+
 TEST(Scenarios, BadOptionsAreErrors) {
   EXPECT_THROW(MakeScenario("highway", ScenarioOptions{}), std::invalid_argument);
   ScenarioOptions opt;
