@@ -23,13 +23,9 @@ Estimator::Estimator(const BackendParams& params, double frame_rate_hz, const Es
 
 void Estimator::addFrame(const FrameMeasurement& frame) {
   const int k = graph_.numFrames();
-  const SE3* init = nullptr;
-  if (options_.fixed_T_world_camera) {
-    if (k >= static_cast<int>(options_.fixed_T_world_camera->size()))
-      throw std::invalid_argument("fixed camera trajectory is shorter than the sequence");
-    init = &(*options_.fixed_T_world_camera)[k];
-  }
-  builder_.addFrame(frame, init);
+  SE3 fixed;
+  if (options_.fixed_T_world_camera) fixed = options_.fixed_T_world_camera(k);
+  builder_.addFrame(frame, options_.fixed_T_world_camera ? &fixed : nullptr);
   if (params_.schedule.kind != ScheduleKind::kSlidingWindow) return;
 
   const auto start = std::chrono::steady_clock::now();
@@ -52,7 +48,7 @@ void Estimator::addFrame(const FrameMeasurement& frame) {
   solve.last_frame = k;
   solve.max_iterations = params_.max_iterations_window;
   solve.function_tolerance = params_.window_function_tolerance;
-  solve.fix_cameras = options_.fixed_T_world_camera != nullptr;
+  solve.fix_cameras = static_cast<bool>(options_.fixed_T_world_camera);
   const WindowSolveSummary summary = SolveWindow(params_, solve, &graph_);
   if (!options_.keep_solve_history) {
     solve_residual_blocks_.clear();
@@ -71,7 +67,7 @@ Estimate Estimator::finish() {
     solve.last_frame = graph_.numFrames() - 1;
     solve.max_iterations = params_.max_iterations_batch;
     solve.num_threads = params_.num_threads;
-    solve.fix_cameras = options_.fixed_T_world_camera != nullptr;
+    solve.fix_cameras = static_cast<bool>(options_.fixed_T_world_camera);
     SolveGraph(params_, solve, &graph_);
   }
   flush();

@@ -6,6 +6,7 @@
 //    (backend/marginalisation.h) and handed to the result sink as final. Its per-frame cost and its
 //    memory are bounded by the window, not by the sequence.
 
+#include <functional>
 #include <vector>
 
 #include "backend/backend_params.h"
@@ -17,8 +18,9 @@ namespace dslam {
 
 struct EstimatorOptions {
   BuilderOptions builder;
-  // When set (one pose per frame), camera poses are held at these values: SLAM+MOT's object stage.
-  const std::vector<SE3>* fixed_T_world_camera = nullptr;
+  // When set, camera poses are held at the values it gives for each frame as the frame is added:
+  // SLAM+MOT's object stage. It throws std::invalid_argument for a frame it has no pose for.
+  std::function<SE3(int frame)> fixed_T_world_camera;
   // Where final estimates go as they become final; null: the estimator collects them and finish()
   // returns them all (runs that evaluate at the end). A streaming sink keeps memory bounded.
   EstimateSink* sink = nullptr;

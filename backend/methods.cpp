@@ -1,6 +1,7 @@
 #include "backend/methods.h"
 
 #include <chrono>
+#include <stdexcept>
 
 #include "backend/estimator.h"
 
@@ -51,7 +52,11 @@ MethodResult RunMethod(Method method, const BackendParams& params, double frame_
       EstimatorOptions object_stage;
       object_stage.builder.use_static_points = false;
       object_stage.builder.use_odometry = false;
-      object_stage.fixed_T_world_camera = &static_stage.T_world_camera;
+      object_stage.fixed_T_world_camera = [&static_stage](int k) {
+        if (k >= static_cast<int>(static_stage.T_world_camera.size()))
+          throw std::invalid_argument("fixed camera trajectory is shorter than the sequence");
+        return static_stage.T_world_camera[k];
+      };
       BackendParams tracker = params;
       tracker.default_mode = params.slam_mot_mode;
       tracker.mode_per_object.clear();

@@ -19,6 +19,7 @@
 #include "bench/rendered_city.h"
 #include "app/run_command.h"
 #include "bench/percentile.h"
+#include "bench/rss.h"
 #include "data/image_dataset.h"
 #include "pipeline/image_run.h"
 #include "pipeline/staged_pipeline.h"
@@ -28,13 +29,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double SecondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// Resident set size of this process, MB (Linux).
-double RssMb() {
-  std::ifstream status("/proc/self/status");
-  for (std::string line; std::getline(status, line);)
-    if (line.rfind("VmRSS:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;
-  return 0.0;
-}
+using dslam::bench::RssMb;
 
 // The frame at step i of a forwards-and-backwards replay, stamped and numbered as the i-th frame.
 dslam::ImageFrame PingPong(const std::vector<dslam::ImageFrame>& images, int i, int64_t period_ns) {

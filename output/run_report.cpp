@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "output/object_rows.h"
 #include "output/object_summary.h"
 #include "output/text_format.h"
 #include "output/trajectory_io.h"
@@ -24,53 +25,28 @@ WholeFile OpenCsv(const std::string& path, const std::string& header) {
   return out;
 }
 
-void PutPose(std::ostream& out, const SE3* H) {
-  if (!H) {
-    out << ",,,,,,,";
-    return;
-  }
-  const auto& t = H->translation();
-  const auto& q = H->rotation();
-  out << ',' << t.x() << ',' << t.y() << ',' << t.z() << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << q.w();
-}
-
-// Rows for every ground-truth pair (estimate blank when missing) and every estimate without one.
+// Rows for every ground-truth pair (estimate blank when missing), then every estimate without one.
 void WriteObjectTables(const std::string& dir, const std::string& suffix, const Sequence& seq, const Estimate& est) {
-  const auto samples = BuildObjectSamples(seq, est);
-  std::set<std::pair<int, int>> covered;
+  std::map<std::pair<int, int>, const ObjectMotionEstimate*> by_key;
+  for (const auto& m : est.object_motions) by_key[{m.object_id, m.frame}] = &m;
   WholeFile motions = OpenCsv(dir + "/object_motions" + suffix + ".csv", kObjectMotionsHeader);
   WholeFile speeds = OpenCsv(dir + "/object_speeds" + suffix + ".csv", kObjectSpeedsHeader);
-  for (const auto& s : samples) {
-    covered.insert({s.object_id, s.frame});
-    motions << s.frame << ',' << s.object_id << ',' << (s.estimated ? std::to_string(s.est_dynamic) : "");
-    PutPose(motions, s.estimated ? &s.H_world_est : nullptr);
-    PutPose(motions, &s.H_world_gt);
-    PutMotionSigmas(motions, s.estimated ? &s.covariance_est : nullptr);
-    motions << '\n';
-    speeds << s.frame << ',' << s.object_id << ',' << (s.estimated ? std::to_string(s.est_dynamic) : "") << ',';
-    if (s.estimated) speeds << s.speed_est_mps;
-    speeds << ',' << s.speed_gt_mps;
-    PutSpeedSigma(speeds, s.estimated ? s.speed_sigma_est_mps : 0.0);
-    speeds << '\n';
-  }
-  for (const auto& m : est.object_motions) {
-    if (covered.count({m.object_id, m.frame})) continue;
-    motions << m.frame << ',' << m.object_id << ',' << m.is_dynamic;
-    PutPose(motions, &m.H_world);
-    PutPose(motions, nullptr);
-    PutMotionSigmas(motions, &m.covariance);
-    motions << '\n';
-    speeds << m.frame << ',' << m.object_id << ',' << m.is_dynamic << ',' << m.speed_mps << ',';
-    PutSpeedSigma(speeds, m.speed_sigma_mps);
-    speeds << '\n';
-  }
+  for (const auto& [id, obj] : seq.gt.objects)
+    for (int k : obj.observed_frames) {
+      const std::optional<ObjectPairSample> gt = GroundTruthPair(seq.gt, seq.frame_rate_hz, id, k);
+      if (!gt) continue;
+      const auto it = by_key.find({id, k});
+      PutObjectRows(motions, speeds, id, k, it == by_key.end() ? nullptr : it->second, &*gt);
+      if (it != by_key.end()) by_key.erase(it);
+    }
+  for (const auto& [key, m] : by_key) PutObjectRows(motions, speeds, key.first, key.second, m, nullptr);
   motions.commit();
   speeds.commit();
 }
 
-void WriteGroundTruthCentroids(const std::string& path, const Sequence& seq) {
+void WriteGroundTruthCentroids(const std::string& path, const GroundTruth& gt) {
   WholeFile out = OpenCsv(path, "frame,object_id,category,observed,x,y,z");
-  for (const auto& [id, obj] : seq.gt.objects)
+  for (const auto& [id, obj] : gt.objects)
     for (const auto& [k, c] : obj.centroid_world)
       out << k << ',' << id << ',' << obj.category << ',' << obj.observed_frames.count(k) << ',' << c.x() << ','
           << c.y() << ',' << c.z() << '\n';
@@ -123,29 +99,34 @@ nlohmann::json MethodMetricsJson(const MethodMetrics& m, double wall_time_s) {
   return j;
 }
 
+void WriteMetricsJson(const std::string& dir, const MethodOutcomes& outcomes, const nlohmann::json& run_info) {
+  nlohmann::json metrics;
+  for (const auto& [method, outcome] : outcomes)
+    metrics["methods"][ToString(method)] = MethodMetricsJson(outcome.metrics, outcome.result.wall_time_s);
+  metrics["run"] = run_info;
+  WholeFile out(dir + "/metrics.json");
+  out << metrics.dump(2) << '\n';
+  out.commit();
+}
+
+void WriteGroundTruthFiles(const std::string& dir, const GroundTruth& gt, const std::vector<int64_t>& t_ns) {
+  WriteGroundTruthCentroids(dir + "/object_centroids_gt.csv", gt);
+  if (!gt.T_world_camera.empty()) {  // a recording without ground truth has none to write
+    WriteTumTrajectory(dir + "/camera_gt.tum", t_ns, gt.T_world_camera);
+    WriteKittiTrajectory(dir + "/camera_gt.kitti", gt.T_world_camera);
+  }
+}
+
 void WriteRunOutputs(const std::string& dir, const Sequence& seq, const MethodOutcomes& outcomes,
                      const nlohmann::json& run_info) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw std::runtime_error("cannot create output directory " + dir + ": " + ec.message());
 
-  nlohmann::json metrics;
-  for (const auto& [method, outcome] : outcomes)
-    metrics["methods"][ToString(method)] = MethodMetricsJson(outcome.metrics, outcome.result.wall_time_s);
-  metrics["run"] = run_info;
-  {
-    WholeFile out(dir + "/metrics.json");
-    out << metrics.dump(2) << '\n';
-    out.commit();
-  }
-
-  WriteGroundTruthCentroids(dir + "/object_centroids_gt.csv", seq);
+  WriteMetricsJson(dir, outcomes, run_info);
   std::vector<int64_t> t_ns;
   for (const auto& f : seq.frames) t_ns.push_back(f.t_ns);
-  if (!seq.gt.T_world_camera.empty()) {  // a recording without ground truth has none to write
-    WriteTumTrajectory(dir + "/camera_gt.tum", t_ns, seq.gt.T_world_camera);
-    WriteKittiTrajectory(dir + "/camera_gt.kitti", seq.gt.T_world_camera);
-  }
+  WriteGroundTruthFiles(dir, seq.gt, t_ns);
   for (const auto& [method, outcome] : outcomes) {
     WriteTumTrajectory(dir + "/camera_" + ToString(method) + ".tum", t_ns, outcome.result.estimate.T_world_camera);
     WriteKittiTrajectory(dir + "/camera_" + ToString(method) + ".kitti", outcome.result.estimate.T_world_camera);

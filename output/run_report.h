@@ -4,6 +4,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -22,6 +23,11 @@ using MethodOutcomes = std::map<Method, MethodOutcome>;
 
 // The metrics.json object of one method (keys fixed by the schema; null where absent).
 nlohmann::json MethodMetricsJson(const MethodMetrics& metrics, double wall_time_s);
+
+// metrics.json: each method's metrics and wall time, and the run's record.
+void WriteMetricsJson(const std::string& dir, const MethodOutcomes& outcomes, const nlohmann::json& run_info);
+// camera_gt.{tum,kitti} (when there are poses; stamps per frame) and object_centroids_gt.csv.
+void WriteGroundTruthFiles(const std::string& dir, const GroundTruth& gt, const std::vector<int64_t>& t_ns);
 
 // Writes into `dir` (created if needed): metrics.json, camera_{gt,ours,static_only,slam_mot}.{tum,kitti} (gt
 // only when the sequence has ground truth), camera_ours_online.tum (each frame's pose as it stood right after

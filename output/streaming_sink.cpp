@@ -2,12 +2,18 @@
 
 #include <filesystem>
 #include <iomanip>
+#include <limits>
 #include <stdexcept>
 
+#include "evaluation/evaluate_run.h"
+#include "output/object_rows.h"
 #include "output/text_format.h"
+#include "output/trajectory_io.h"
 
 namespace dslam {
 namespace {
+
+constexpr const char* kMapPointsHeader = "frame,object_id,x,y,z";
 
 std::ofstream Open(const std::string& path, const std::string& header, bool fixed) {
   std::ofstream out(path, std::ios::trunc);
@@ -18,16 +24,17 @@ std::ofstream Open(const std::string& path, const std::string& header, bool fixe
   return out;
 }
 
-void PutTum(std::ostream& out, int64_t t_ns, const SE3& T) {
-  const auto& q = T.rotation();
-  const auto& t = T.translation();
-  out << static_cast<double>(t_ns) * 1e-9 << ' ' << t.x() << ' ' << t.y() << ' ' << t.z() << ' ' << q.x() << ' '
-      << q.y() << ' ' << q.z() << ' ' << q.w() << '\n';
+// The first frame with a ground-truth pose of an object (its estimated_ bits start there).
+int FirstPoseFrame(const GroundTruth& gt, int object_id) {
+  const auto it = gt.objects.find(object_id);
+  return it == gt.objects.end() || it->second.L_world_object.empty() ? 0 : it->second.L_world_object.begin()->first;
 }
 
 }  // namespace
 
-StreamingFileSink::StreamingFileSink(const std::string& dir) : dir_(dir) {}
+StreamingFileSink::StreamingFileSink(const std::string& dir, StreamedFiles files, const GroundTruth* gt,
+                                     double frame_rate_hz)
+    : dir_(dir), files_(std::move(files)), gt_(gt), frame_rate_hz_(frame_rate_hz) {}
 
 void StreamingFileSink::open() {
   if (opened_) return;
@@ -36,11 +43,15 @@ void StreamingFileSink::open() {
   std::filesystem::create_directories(dir_, ec);
   if (ec) throw std::runtime_error("cannot create output directory " + dir_ + ": " + ec.message());
   // The same formats (and, for the trajectories, the same number format) as the files written at the end.
-  camera_ = Open(dir_ + "/camera_ours.tum", "", true);
-  online_ = Open(dir_ + "/camera_ours_online.tum", "", true);
-  motions_ = Open(dir_ + "/object_motions.csv", kObjectMotionsHeader, false);
-  speeds_ = Open(dir_ + "/object_speeds.csv", kObjectSpeedsHeader, false);
-  points_ = Open(dir_ + "/map_points.csv", "frame,object_id,x,y,z", false);
+  const std::string camera = dir_ + "/camera_" + files_.method;
+  camera_ = Open(camera + ".tum", "", true);
+  if (files_.kitti) kitti_ = Open(camera + ".kitti", "", true);
+  if (files_.online) online_ = Open(camera + "_online.tum", "", true);
+  if (files_.object_tables) {
+    motions_ = Open(dir_ + "/object_motions" + files_.object_suffix + ".csv", kObjectMotionsHeader, false);
+    speeds_ = Open(dir_ + "/object_speeds" + files_.object_suffix + ".csv", kObjectSpeedsHeader, false);
+  }
+  if (files_.map_points) points_ = Open(dir_ + "/map_points.csv", kMapPointsHeader, false);
 }
 
 void StreamingFileSink::frameStamp(int frame, int64_t t_ns) {
@@ -50,7 +61,8 @@ void StreamingFileSink::frameStamp(int frame, int64_t t_ns) {
 
 void StreamingFileSink::onlinePose(int64_t t_ns, const SE3& T_world_camera) {
   open();
-  PutTum(online_, t_ns, T_world_camera);
+  if (!files_.online) return;
+  PutTumLine(online_, t_ns, T_world_camera);
   online_.flush();
 }
 
@@ -59,36 +71,81 @@ void StreamingFileSink::cameraFinal(int frame, const SE3& T_world_camera) {
   while (!stamps_.empty() && stamps_.front().first < frame) stamps_.pop_front();
   if (stamps_.empty() || stamps_.front().first != frame)
     throw std::logic_error("streaming sink: no stamp for frame " + std::to_string(frame));
-  PutTum(camera_, stamps_.front().second, T_world_camera);
+  PutTumLine(camera_, stamps_.front().second, T_world_camera);
+  writeLandmarksSeenBefore(frame);
+  if (files_.kitti) PutKittiLine(kitti_, T_world_camera);
   stamps_.pop_front();
   flush();  // once per frame: each frame added makes at most one camera final
 }
 
 void StreamingFileSink::motionFinal(const ObjectMotionEstimate& m) {
   open();
-  const auto& t = m.H_world.translation();
-  const auto& q = m.H_world.rotation();
-  motions_ << m.frame << ',' << m.object_id << ',' << m.is_dynamic << ',' << t.x() << ',' << t.y() << ',' << t.z()
-           << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << q.w() << ",,,,,,,";
-  PutMotionSigmas(motions_, &m.covariance);
-  motions_ << '\n';
-  speeds_ << m.frame << ',' << m.object_id << ',' << m.is_dynamic << ',' << m.speed_mps << ',';
-  PutSpeedSigma(speeds_, m.speed_sigma_mps);
-  speeds_ << '\n';
+  if (!files_.object_tables) return;
+  std::optional<ObjectPairSample> pair;
+  if (gt_) {
+    pair = GroundTruthPair(*gt_, frame_rate_hz_, m.object_id, m.frame);
+    if (pair) {
+      std::vector<bool>& bits = estimated_[m.object_id];
+      const size_t i = static_cast<size_t>(m.frame - FirstPoseFrame(*gt_, m.object_id));
+      if (bits.size() <= i) bits.resize(i + 1, false);
+      bits[i] = true;
+    }
+  }
+  PutObjectRows(motions_, speeds_, m.object_id, m.frame, &m, pair ? &*pair : nullptr);
 }
 
 void StreamingFileSink::pointFinal(const PointEstimate& p) {
   open();
-  points_ << (p.object_id < 0 ? -1 : p.frame) << ',' << p.object_id << ',' << p.p_world.x() << ',' << p.p_world.y()
-          << ',' << p.p_world.z() << '\n';
+  if (!files_.map_points) return;
+  if (p.object_id < 0) {  // a landmark: its latest value, written when its sighting ends
+    landmarks_[p.track_id] = {p.frame, p.p_world};
+    return;
+  }
+  putPoint(p.frame, p.object_id, p.p_world);
+}
+
+void StreamingFileSink::putPoint(int frame, int object_id, const Vec3& p_world) {
+  points_ << frame << ',' << object_id << ',' << p_world.x() << ',' << p_world.y() << ',' << p_world.z() << '\n';
+}
+
+void StreamingFileSink::writeLandmarksSeenBefore(int frame) {
+  // A frame's observations become final before its camera does: a landmark whose last final
+  // observation is older than that camera is not seen in it, and its sighting has ended.
+  for (auto it = landmarks_.begin(); it != landmarks_.end();) {
+    if (it->second.first < frame) {
+      putPoint(-1, -1, it->second.second);
+      it = landmarks_.erase(it);
+    } else {
+      ++it;
+    }
+  }
 }
 
 void StreamingFileSink::flush() {
   if (!opened_) return;
-  for (std::ofstream* f : {&camera_, &online_, &motions_, &speeds_, &points_}) {
+  for (std::ofstream* f : {&camera_, &kitti_, &online_, &motions_, &speeds_, &points_}) {
+    if (!f->is_open()) continue;
     f->flush();
     if (!*f) throw std::runtime_error("error while writing the streamed results in " + dir_);
   }
+}
+
+void StreamingFileSink::finish() {
+  writeLandmarksSeenBefore(std::numeric_limits<int>::max());
+  if (gt_ && files_.object_tables) {
+    open();
+    for (const auto& [id, obj] : gt_->objects) {
+      const auto bits = estimated_.find(id);
+      const int first = FirstPoseFrame(*gt_, id);
+      for (int k : obj.observed_frames) {
+        const size_t i = static_cast<size_t>(k - first);
+        if (bits != estimated_.end() && i < bits->second.size() && bits->second[i]) continue;
+        const std::optional<ObjectPairSample> pair = GroundTruthPair(*gt_, frame_rate_hz_, id, k);
+        if (pair) PutObjectRows(motions_, speeds_, id, k, nullptr, &*pair);
+      }
+    }
+  }
+  flush();
 }
 
 }  // namespace dslam

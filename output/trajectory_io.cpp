@@ -16,25 +16,29 @@ WholeFile OpenForWriting(const std::string& path) {
 }
 }  // namespace
 
+void PutTumLine(std::ostream& out, int64_t t_ns, const SE3& pose) {
+  const auto& q = pose.rotation();
+  const auto& t = pose.translation();
+  out << static_cast<double>(t_ns) * 1e-9 << ' ' << t.x() << ' ' << t.y() << ' ' << t.z() << ' ' << q.x() << ' '
+      << q.y() << ' ' << q.z() << ' ' << q.w() << '\n';
+}
+
+void PutKittiLine(std::ostream& out, const SE3& pose) {
+  const Mat4 T = pose.matrix();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) out << T(r, c) << ((r == 2 && c == 3) ? '\n' : ' ');
+}
+
 void WriteTumTrajectory(const std::string& path, const std::vector<int64_t>& t_ns, const std::vector<SE3>& poses) {
   if (t_ns.size() != poses.size()) throw std::invalid_argument(path + ": timestamps and poses differ in number");
   WholeFile out = OpenForWriting(path);
-  for (size_t i = 0; i < poses.size(); ++i) {
-    const auto& q = poses[i].rotation();
-    const auto& t = poses[i].translation();
-    out << static_cast<double>(t_ns[i]) * 1e-9 << ' ' << t.x() << ' ' << t.y() << ' ' << t.z() << ' ' << q.x() << ' '
-        << q.y() << ' ' << q.z() << ' ' << q.w() << '\n';
-  }
+  for (size_t i = 0; i < poses.size(); ++i) PutTumLine(out, t_ns[i], poses[i]);
   out.commit();
 }
 
 void WriteKittiTrajectory(const std::string& path, const std::vector<SE3>& poses) {
   WholeFile out = OpenForWriting(path);
-  for (const auto& pose : poses) {
-    const Mat4 T = pose.matrix();
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 4; ++c) out << T(r, c) << ((r == 2 && c == 3) ? '\n' : ' ');
-  }
+  for (const auto& pose : poses) PutKittiLine(out, pose);
   out.commit();
 }
 

@@ -49,7 +49,7 @@ MethodResult OnlineBackend::finish() {
   result_.estimate = estimator_.finish();
   if (stream_) {
     result_.estimate = std::move(collected_.estimate);
-    stream_->flush();
+    stream_->finish();
   }
   result_.solve_times_ms = estimator_.solveTimesMs();
   result_.wall_time_s += SecondsSince(start);

@@ -20,7 +20,7 @@ void AddStaticPointsAround(const SE3& T_world_camera, double z_from, double z_to
 
 }  // namespace
 
-Sequence MakeKittiReplay(const KittiGroundTruthSequence& gt, const KittiReplayOptions& options) {
+SensorSimulator MakeKittiReplaySimulator(const KittiGroundTruthSequence& gt, const KittiReplayOptions& options) {
   SimWorld world;
   world.name = gt.name;
   world.frame_rate_hz = gt.frame_rate_hz;
@@ -64,7 +64,11 @@ Sequence MakeKittiReplay(const KittiGroundTruthSequence& gt, const KittiReplayOp
     sensor.camera.cx = gt.calibration->cx();
     sensor.camera.cy = gt.calibration->cy();
   }
-  return SimulateSensor(world, sensor, options.noise, options.seed);
+  return SensorSimulator(std::move(world), sensor, options.noise, options.seed);
+}
+
+Sequence MakeKittiReplay(const KittiGroundTruthSequence& gt, const KittiReplayOptions& options) {
+  return MakeKittiReplaySimulator(gt, options).drain();
 }
 
 }  // namespace dslam

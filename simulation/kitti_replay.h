@@ -19,6 +19,8 @@ struct KittiReplayOptions {
   double camera_height_m = 1.65;     // KITTI's camera above the road, for the road points
 };
 
+// The replay's frames one at a time (what `dslam kitti-replay` runs), or all at once.
+SensorSimulator MakeKittiReplaySimulator(const KittiGroundTruthSequence& gt, const KittiReplayOptions& options);
 Sequence MakeKittiReplay(const KittiGroundTruthSequence& gt, const KittiReplayOptions& options);
 
 }  // namespace dslam
