@@ -31,6 +31,8 @@ void BackendParams::validate() const {
   RequirePositive(motion_ransac.inlier_threshold_m, "motion_ransac.inlier_threshold_m");
   if (motion_ransac.min_inliers < 3) throw std::invalid_argument("motion_ransac.min_inliers must be >= 3");
   if (object_window_frames < 2) throw std::invalid_argument("object_window_frames must be >= 2");
+  if (landmark_history_frames < 0 || landmark_history_frames > 1000)
+    throw std::invalid_argument("landmark_history_frames must be in [0, 1000]");
   if (max_iterations_batch < 1 || max_iterations_window < 1)
     throw std::invalid_argument("max_iterations_batch and max_iterations_window must be >= 1");
   RequirePositive(window_function_tolerance, "window_function_tolerance");

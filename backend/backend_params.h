@@ -48,6 +48,9 @@ struct BackendParams {
   // window; older ones are marginalised (backend/marginalisation.h). Cameras, static structure and the
   // points of objects with one motion for their whole track (constant mode) stay W.
   int object_window_frames = 3;
+  // Window: frames of a landmark's measurements kept as robust factors after their camera left the
+  // window (camera held), before they are folded into its prior.
+  int landmark_history_frames = 30;
   int max_iterations_batch = 50;
   int max_iterations_window = 10;
   // Relative cost decrease below which a window solve stops. Each window starts from the previous

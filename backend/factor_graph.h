@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "backend/factors/huber_loss.h"
 #include "backend/factors/pose_block.h"
 #include "data/measurements.h"
 #include "geometry/se3.h"
@@ -31,7 +32,45 @@ struct PointVariable {
   // window into this Gaussian prior): information matrix and information vector, p ~ N(info^-1 vec, info^-1).
   Mat3 prior_info = Mat3::Zero();
   Vec3 prior_info_vec = Vec3::Zero();
-  bool hasPrior() const { return prior_info.trace() > 0.0; }
+  // The newest measurements of frames that left the window, kept as robust factors with their camera
+  // held at its final estimate, so that their Huber weights follow the landmark's estimate (an outlier
+  // is told apart only once the landmark has been seen from later frames); older ones are in the prior.
+  struct HeldMeasurement {
+    Mat3 A;           // whitened residual r = A (p - p_world): A = diag(1 / sigma) R_world_camera^T
+    Vec3 p_world;     // the measured point, in the world through the held camera
+    int frame = 0;
+  };
+  std::vector<HeldMeasurement> held;  // oldest first
+  bool hasPrior() const { return prior_info.trace() > 0.0 || !held.empty(); }
+  // The prior and the held measurements at position x: their cost (0.5 * sum of squares, Huber on the held
+  // ones) and the Gauss-Newton information and gradient (IRLS weights).
+  double priorCost(const Vec3& x, const HuberLoss& huber) const {
+    double c = 0.0;
+    if (prior_info.trace() > 0.0) {
+      const Vec3 mean = prior_info.ldlt().solve(prior_info_vec);
+      c += (x - mean).dot(prior_info * (x - mean));
+    }
+    for (const HeldMeasurement& h : held) c += huber.rho((h.A * (x - h.p_world)).squaredNorm());
+    return 0.5 * c;
+  }
+  void priorNormalEquations(const Vec3& x, const HuberLoss& huber, Mat3* info, Vec3* gradient) const {
+    *info = prior_info;
+    *gradient = prior_info * x - prior_info_vec;
+    for (const HeldMeasurement& h : held) {
+      const Vec3 r = h.A * (x - h.p_world);
+      const Mat3 AtA = huber.weight(r.squaredNorm()) * h.A.transpose() * h.A;
+      *info += AtA;
+      *gradient += AtA * (x - h.p_world);
+    }
+  }
+  // Folds the oldest held measurement into the prior with its weight at position x.
+  void foldOldestHeld(const Vec3& x, const HuberLoss& huber) {
+    const HeldMeasurement& h = held.front();
+    const Mat3 info = huber.weight((h.A * (x - h.p_world)).squaredNorm()) * h.A.transpose() * h.A;
+    prior_info += info;
+    prior_info_vec += info * h.p_world;
+    held.erase(held.begin());
+  }
   Vec3 position() const { return Vec3(p_world[0], p_world[1], p_world[2]); }
 };
 

@@ -46,12 +46,6 @@ Vec6 LinearFactorResidual(const FactorGraph& graph, const LinearPointFactor& lf)
 
 // Information of a camera's measurement of a point, camera held at its estimate: the measurement is
 // linear in the point, r = W (R^T (l - t) - z), so it is exactly the Gaussian N(t + R z, (R W^2 R^T)^-1).
-Mat3 MeasurementInformation(const Mat3& R, const Vec3& t, const PointMeasurementEntry& m, const Vec3& p_world,
-                            const HuberLoss& huber) {
-  Mat3 J_point;
-  const Vec3 r = PointMeasurementResidual(R, t, p_world, m.z_camera, m.sigma_m.cwiseInverse(), nullptr, &J_point);
-  return huber.weight(r.squaredNorm()) * J_point.transpose() * J_point;
-}
 
 }  // namespace
 
@@ -126,10 +120,7 @@ void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, i
     const PointVariable& var = graph->points.at(e.point_var);
     if (!selected(var.object_id) || var.last_frame != m) continue;
     auto [it, is_new] = unary.try_emplace(e.point_var);
-    if (is_new) {
-      it->second.info = var.prior_info;
-      it->second.gradient = var.prior_info * var.position() - var.prior_info_vec;
-    }
+    if (is_new) var.priorNormalEquations(var.position(), huber, &it->second.info, &it->second.gradient);
     if (!measurement.emplace(e.point_var, &e).second) {
       // A second measurement at m (not made by the builder): camera held at its estimate.
       Mat3 J_point;
@@ -292,9 +283,9 @@ void MarginaliseCameraFrame(const BackendParams& params, int m, FactorGraph* gra
       ended.insert(e.point_var);
       continue;
     }
-    const Mat3 info = MeasurementInformation(R, t, e, var.position(), huber);
-    var.prior_info += info;
-    var.prior_info_vec += info * (t + R * e.z_camera);
+    // Held as a robust factor for landmark_history_frames frames, then folded into the prior.
+    var.held.push_back({e.sigma_m.cwiseInverse().asDiagonal() * R.transpose(), t + R * e.z_camera, m});
+    while (static_cast<int>(var.held.size()) > params.landmark_history_frames) var.foldOldestHeld(var.position(), huber);
   }
   for (int v : ended) graph->points.erase(v);
   // Linear factors on this camera (left by object points of frame m) keep it at its final value.

@@ -7,9 +7,11 @@
 // what they were connected to, linearised at the leaving variables' last estimates. The fold is
 // sparsified: correlations that would couple many in-window variables through one leaving variable
 // are dropped, so that every prior keeps the graph's structure (and the solver's cost) unchanged:
-//  - a leaving frame's measurement of a landmark that is still observed becomes part of a Gaussian
-//    prior on that landmark (camera at its estimate): the landmark keeps everything it was ever seen
-//    from, at the cost of one 3x3 prior;
+//  - a leaving frame's measurement of a landmark that is still observed is held as a robust factor on
+//    the landmark (camera at its final estimate) for landmark_history_frames frames, so that its Huber
+//    weight follows the landmark's estimate, then becomes part of a Gaussian prior on that landmark with
+//    the weight it has then: the landmark keeps everything it was ever seen from, at the cost of one 3x3
+//    prior and the held measurements;
 //  - a per-frame object point leaving the object window is marginalised exactly over its measurement
 //    and the ternary factor to its successor, with the factors that involve nothing else still in the
 //    window (its prior, the factor from its predecessor with that motion at its estimate, the linear

@@ -160,14 +160,11 @@ class WindowProblem {
       c += huber_.rho(r.squaredNorm());
     }
     for (const auto& l : linears_) c += linearResidual(l).squaredNorm();
-    for (const PointVariable* p : points_) {
-      if (!p->hasPrior()) continue;
-      const Vec3 x = p->position();
-      const Vec3 mean = p->prior_info.ldlt().solve(p->prior_info_vec);
-      c += (x - mean).dot(p->prior_info * (x - mean));
-    }
     for (const auto& f : pose_factors_) c += poseResidual(f, -1, Vec6::Zero()).squaredNorm();
-    return 0.5 * c;
+    c *= 0.5;
+    for (const PointVariable* p : points_)
+      if (p->hasPrior()) c += p->priorCost(p->position(), huber_);
+    return c;
   }
 
   // Builds and solves the damped normal equations; false when the reduced system is not positive definite.
@@ -477,8 +474,11 @@ class WindowProblem {
       const PointVariable* p = points_[g.points[j]];
       if (!p->hasPrior()) continue;
       const int i = 3 * static_cast<int>(j);
-      Hpp.template block<3, 3>(i, i) += p->prior_info;
-      gp.template segment<3>(i) += p->prior_info * point(g.points[j]) - p->prior_info_vec;
+      Mat3 info;
+      Vec3 gradient;
+      p->priorNormalEquations(point(g.points[j]), huber_, &info, &gradient);
+      Hpp.template block<3, 3>(i, i) += info;
+      gp.template segment<3>(i) += gradient;
     }
     for (int i = 0; i < np; ++i) Hpp(i, i) += lambda * Hpp(i, i) + 1e-12;
     // Through the explicit inverse and coefficient-wise (lazy) fixed-size products: solving into blocks of

@@ -2,7 +2,8 @@
 // 100 frames, median and p99 after the first 100 frames. The city repeats exactly every
 // 300 frames, so frame 1000 sees the same scene as frame 100: the solve time around frame 100
 // (frames 90-109) and around frame 1000 (frames 990-1009) must be about equal.
-// Usage: bench_window_solve [frames=1100] [window=10]
+// Usage: bench_window_solve [frames=1100] [window=10] [CONFIG.yaml]  (settings over the defaults, e.g. to
+// compare a back-end option before and after in one binary)
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -12,6 +13,7 @@
 #include "backend/estimator.h"
 #include "bench/percentile.h"
 #include "frontend/dynamic_object_classifier.h"
+#include "pipeline/config_yaml.h"
 #include "pipeline/run_config.h"
 #include "simulation/scenarios.h"
 
@@ -27,13 +29,14 @@ int main(int argc, char** argv) {
   const int frames = argc > 1 ? std::atoi(argv[1]) : 1100;
   const int window = argc > 2 ? std::atoi(argv[2]) : 10;
   if (frames < 200 || window < 2) {
-    std::cerr << "usage: bench_window_solve [frames >= 200] [window >= 2]\n";
+    std::cerr << "usage: bench_window_solve [frames >= 200] [window >= 2] [CONFIG.yaml]\n";
     return 2;
   }
   dslam::ScenarioOptions scenario;
   scenario.num_frames = frames;
   const dslam::Sequence seq = dslam::MakeScenario("city", scenario);
   dslam::RunConfig config;
+  if (argc > 3) config = dslam::LoadRunConfig(argv[3]);
   config.backend.default_mode = dslam::MotionMode::kSmoothed;
   config.backend.schedule = {dslam::ScheduleKind::kSlidingWindow, window};
   std::vector<dslam::FrameMeasurement> labelled = seq.frames;

@@ -67,6 +67,7 @@ const Schema& GetSchema() {
         {"slam_mot_mode", ModeField([](RunConfig& c) -> MotionMode& { return c.backend.slam_mot_mode; })},
         {"schedule", ScheduleField()},
         {"object_window_frames", Field<int>([](RunConfig& c) -> int& { return c.backend.object_window_frames; })},
+        {"landmark_history_frames", Field<int>([](RunConfig& c) -> int& { return c.backend.landmark_history_frames; })},
         {"max_iterations_batch", Field<int>([](RunConfig& c) -> int& { return c.backend.max_iterations_batch; })},
         {"max_iterations_window", Field<int>([](RunConfig& c) -> int& { return c.backend.max_iterations_window; })},
         {"window_function_tolerance",

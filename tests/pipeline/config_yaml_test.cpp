@@ -15,6 +15,7 @@ TEST(ConfigYaml, RoundTripKeepsEveryValue) {
   c.backend.noise.huber_delta = 1.5;
   c.backend.motion_ransac.inlier_threshold_m = 0.21;
   c.backend.object_window_frames = 4;
+  c.backend.landmark_history_frames = 12;
   c.backend.mode_per_object[4] = MotionMode::kConstant;
   c.classifier.dynamic_speed_threshold_mps = 0.8;
   c.classifier.min_static_transitions = 3;
@@ -29,6 +30,7 @@ TEST(ConfigYaml, RoundTripKeepsEveryValue) {
   EXPECT_EQ(back.backend.noise.huber_delta, 1.5);
   EXPECT_EQ(back.backend.motion_ransac.inlier_threshold_m, 0.21);
   EXPECT_EQ(back.backend.object_window_frames, 4);
+  EXPECT_EQ(back.backend.landmark_history_frames, 12);
   EXPECT_EQ(back.backend.modeFor(4), MotionMode::kConstant);
   EXPECT_EQ(back.classifier.dynamic_speed_threshold_mps, 0.8);
   EXPECT_EQ(back.classifier.min_static_transitions, 3);

@@ -17,7 +17,9 @@ namespace {
 
 void ExpectNear(const std::optional<double>& streamed, const std::optional<double>& collected, const std::string& what) {
   ASSERT_EQ(streamed.has_value(), collected.has_value()) << what;
-  if (streamed) EXPECT_NEAR(*streamed, *collected, 1e-9 * std::max(1.0, std::abs(*collected))) << what;
+  if (streamed) {
+    EXPECT_NEAR(*streamed, *collected, 1e-9 * std::max(1.0, std::abs(*collected))) << what;
+  }
 }
 
 void ExpectSameMetrics(const MethodMetrics& streamed, const MethodMetrics& collected, const std::string& what) {
