@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <map>
 #include <csignal>
 #include <thread>
 
@@ -81,10 +82,23 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
           << std::endl;
     }
     const auto start = std::chrono::steady_clock::now();
-    auto last_status = start;
+    auto last_status = start, last_loss_warning = start - std::chrono::hours(1);
+    std::map<std::string, uint64_t> lost_reported;
     while (!g_stop) {
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
       const auto now = std::chrono::steady_clock::now();
+      // Lost input samples are a network problem the user can fix: said at once, at most every 5 s.
+      if (now - last_loss_warning > std::chrono::seconds(5)) {
+        for (const auto& [name, s] : node.status()) {
+          if (s.counters.samples_lost <= lost_reported[name]) continue;
+          out << "dslam serve: warning: vehicle '" << name << "': " << s.counters.samples_lost
+              << " input samples lost so far (gaps in the writers' sequence numbers: over UDP usually fragments the "
+                 "socket buffer could not hold; see the README, Vehicle network)"
+              << std::endl;
+          lost_reported[name] = s.counters.samples_lost;
+          last_loss_warning = now;
+        }
+      }
       if (options.max_run_s > 0 && std::chrono::duration<double>(now - start).count() > options.max_run_s) break;
       if (options.status_every_s > 0 && std::chrono::duration<double>(now - last_status).count() > options.status_every_s) {
         last_status = now;
@@ -92,7 +106,8 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
           out << "  vehicle '" << name << "': " << s.counters.parts_received << " samples, " << s.frames_processed
               << " frames processed, " << s.counters.dropped_incomplete << " incomplete, "
               << s.counters.dropped_queue_full << " dropped (backlog full), "
-              << s.counters.rejected_invalid << " rejected" << (s.counters.last_rejection.empty() ? "" : " (last: ")
+              << s.counters.samples_lost << " lost, " << s.counters.rejected_invalid << " rejected"
+              << (s.counters.last_rejection.empty() ? "" : " (last: ")
               << s.counters.last_rejection << (s.counters.last_rejection.empty() ? "" : ")") << std::endl;
       }
     }

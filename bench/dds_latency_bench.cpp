@@ -1,14 +1,16 @@
 // End-to-end latency of the DDS participant: a 1242x375 frame (colour, depth, mask, odometry) published
 // to the receipt of its camera estimate, at 10 Hz (median and 99th percentile), and the highest frame rate
 // the participant sustains (every frame estimated, 99th percentile latency under 1.5 frame periods). Publisher, `serve` node and
-// listener run in this process, each with its own participant, over shared memory (plugin/ holds all the
-// DDS code; this file only drives it).
-// Usage: bench_dds_latency [DATASET_DIR] [frames=40] [RATES=1,2,3,5,10]
+// listener run in this process, each with its own participant, through a transport (Fast DDS' intra-process
+// shortcut is off): shared memory, or with --transport udp UDPv4 on loopback only, the path a camera driver
+// on another host takes (plugin/ holds all the DDS code; this file only drives it).
+// Usage: bench_dds_latency [--transport shm|udp] [DATASET_DIR] [frames=40] [RATES=1,2,3,5,10]
 // (without a dataset it renders the city; needs Xvfb or a display)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <sstream>
@@ -21,6 +23,7 @@
 #include "plugin/estimate_listener.h"
 #include "plugin/sensor_publisher.h"
 #include "plugin/serve_node.h"
+#include "plugin/transport_profiles.h"
 
 namespace {
 using Clock = std::chrono::steady_clock;
@@ -91,30 +94,46 @@ RateResult RunAtRate(const dslam::ImageDataset& data, int frames, double rate_hz
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string dir = argc > 1 ? argv[1] : "";
-  const int frames = argc > 2 ? std::atoi(argv[2]) : 40;
+  std::string transport = "shm";
+  std::vector<std::string> args;
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) == "--transport" && i + 1 < argc)
+      transport = argv[++i];
+    else
+      args.emplace_back(argv[i]);
+  }
+  std::string dir = args.size() > 0 ? args[0] : "";
+  const int frames = args.size() > 1 ? std::atoi(args[1].c_str()) : 40;
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress as it comes, also into a file
-  if (frames < 20) {
-    std::cerr << "usage: bench_dds_latency [DATASET_DIR] [frames >= 20]\n";
+  if (frames < 20 || (transport != "shm" && transport != "udp")) {
+    std::cerr << "usage: bench_dds_latency [--transport shm|udp] [DATASET_DIR] [frames >= 20] [RATES]\n";
     return 2;
   }
+  dslam::DisableIntraprocessDelivery();
   if (dir.empty()) {
     dir = (std::filesystem::temp_directory_path() / "dslam_bench_dds_city").string();
     dslam::RenderSceneOptions render;
     render.scenario = "city", render.frames = 40, render.out_dir = dir, render.quiet = true;
     if (const int status = dslam::RunRenderSceneCommand(render, std::cout, std::cerr); status != 0) return status;
   }
-  const std::string profiles = std::string(DSLAM_SOURCE_DIR) + "/config/dds_profiles.xml";
+  std::string profiles = std::string(DSLAM_SOURCE_DIR) + "/config/dds_profiles.xml";
+  if (transport == "udp") {
+    std::ifstream in(profiles);
+    std::stringstream text;
+    text << in.rdbuf();
+    profiles = (std::filesystem::temp_directory_path() / "dslam_bench_dds_udp.xml").string();
+    std::ofstream(profiles) << dslam::WithoutSharedMemoryTransport(text.str());
+  }
   const dslam::ImageDataset data(dir, dslam::ImageDatasetOptions{});
-  std::printf("DDS end to end on %s (%dx%d), %d frames per rate\n", dir.c_str(), data.camera().width,
-              data.camera().height, frames);
+  std::printf("DDS end to end on %s (%dx%d), %d frames per rate, over %s\n", dir.c_str(), data.camera().width,
+              data.camera().height, frames, transport == "udp" ? "UDPv4 (shared memory off)" : "shared memory");
   std::printf("%8s %10s %12s %10s %10s %14s\n", "rate Hz", "estimated", "median ms", "p99 ms", "first ms", "last ms");
   double sustained = 0.0;
   int domain = 150;
   std::vector<double> rates = {1.0, 2.0, 3.0, 5.0, 10.0};
-  if (argc > 3) {
+  if (args.size() > 2) {
     rates.clear();
-    std::stringstream list(argv[3]);
+    std::stringstream list(args[2]);
     for (std::string r; std::getline(list, r, ',');) rates.push_back(std::stod(r));
   }
   for (double rate : rates) {

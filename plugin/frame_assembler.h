@@ -43,6 +43,7 @@ struct AssemblerCounters {
   uint64_t dropped_incomplete = 0;
   uint64_t dropped_queue_full = 0;
   uint64_t rejected_invalid = 0;
+  uint64_t samples_lost = 0;  // not the assembler's: what serve's DDS readers reported lost (SAMPLE_LOST)
   std::string last_rejection;
 };
 

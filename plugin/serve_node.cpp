@@ -1,5 +1,6 @@
 #include "plugin/serve_node.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -170,6 +171,7 @@ class Vehicle {
     info["dropped_incomplete"] = s.counters.dropped_incomplete;
     info["dropped_queue_full"] = s.counters.dropped_queue_full;
     info["rejected_invalid"] = s.counters.rejected_invalid;
+    info["samples_lost"] = s.counters.samples_lost;
     try {
       WriteKittiTrajectory(dir + "/camera_ours.kitti", ReadTumTrajectory(dir + "/camera_ours.tum"));
       nlohmann::json metrics;
@@ -210,6 +212,9 @@ class Vehicle {
       while (reader->take_next_sample(&sample.image, &info) == ReturnCode_t::RETCODE_OK)
         if (info.valid_data) vehicle_->inbox_.pushDropOldest(sample);
     }
+    void on_sample_lost(dds::DataReader*, const dds::SampleLostStatus& status) override {
+      vehicle_->samples_lost_ += static_cast<uint64_t>(std::max(0, status.total_count_change));
+    }
 
    private:
     Vehicle* vehicle_;
@@ -223,6 +228,9 @@ class Vehicle {
       dds::SampleInfo info;
       while (reader->take_next_sample(&sample.odometry, &info) == ReturnCode_t::RETCODE_OK)
         if (info.valid_data) vehicle_->inbox_.pushDropOldest(sample);
+    }
+    void on_sample_lost(dds::DataReader*, const dds::SampleLostStatus& status) override {
+      vehicle_->samples_lost_ += static_cast<uint64_t>(std::max(0, status.total_count_change));
     }
 
    private:
@@ -288,12 +296,13 @@ class Vehicle {
   AssemblerCounters countersLocked() const {
     AssemblerCounters c = assembler_.counters();
     c.dropped_queue_full += inbox_.dropped();
+    c.samples_lost = samples_lost_;
     return c;
   }
 
-  // Drops and rejections so far; the counters only grow, so their sum changes whenever one of them does.
+  // Drops, rejections and lost samples so far; the counters only grow, so their sum changes whenever one does.
   static uint64_t ProblemCount(const AssemblerCounters& c) {
-    return c.dropped_queue_full + c.dropped_incomplete + c.rejected_invalid;
+    return c.dropped_queue_full + c.dropped_incomplete + c.rejected_invalid + c.samples_lost;
   }
 
   static int64_t SystemClockNs() {
@@ -333,6 +342,7 @@ class Vehicle {
       status.dropped_incomplete(c.dropped_incomplete);
       status.dropped_queue_full(c.dropped_queue_full);
       status.rejected_invalid(c.rejected_invalid);
+      status.samples_lost(c.samples_lost);
       status.last_rejection(c.last_rejection);
       status.last_latency_ms(status_.last_latency_ms);
       published_problems_ = ProblemCount(c);
@@ -353,6 +363,7 @@ class Vehicle {
   // Drops and rejections as of the last status message, to publish a new one when one more happens.
   uint64_t published_problems_ = 0;
   BoundedQueue<Sample> inbox_;
+  std::atomic<uint64_t> samples_lost_{0};  // by Fast DDS' threads (SAMPLE_LOST of the input readers)
   DirLock dir_lock_;          // this vehicle's folder is ours alone while we run
   std::atomic<bool> abandon_{false};
   StreamingFileSink stream_;  // the results as they become final; rewritten whole at the end

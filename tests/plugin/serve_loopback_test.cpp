@@ -14,7 +14,12 @@
 #include <set>
 #include <thread>
 
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+#include <fastdds/rtps/transport/test_UDPv4TransportDescriptor.h>
 
 #include "app/render_scene_command.h"
 #include "data/image_dataset.h"
@@ -79,8 +84,8 @@ class Listener {
       const auto& st = statuses.back();
       s += "; serve: " + std::to_string(st.frames_received()) + " samples, " + std::to_string(st.frames_assembled()) +
            " assembled, " + std::to_string(st.dropped_incomplete()) + " incomplete, " +
-           std::to_string(st.dropped_queue_full()) + " queue-full, " + std::to_string(st.rejected_invalid()) +
-           " rejected (" + st.last_rejection() + ")";
+           std::to_string(st.dropped_queue_full()) + " queue-full, " + std::to_string(st.samples_lost()) + " lost, " +
+           std::to_string(st.rejected_invalid()) + " rejected (" + st.last_rejection() + ")";
     }
     return s;
   }
@@ -404,6 +409,63 @@ TEST(ServeLoopback, BadSamplesAreRejectedAndCountedAndServeKeepsRunning) {
     EXPECT_EQ(listener.statuses.back().frames_processed(), 12u);
     EXPECT_GE(listener.statuses.back().rejected_invalid(), 4u);
   }
+  serve.signal(SIGTERM);
+  EXPECT_EQ(serve.wait(60s), 0);
+}
+
+// A camera driver on a network that loses messages (Fast DDS' test UDP transport drops half of its data
+// messages; no shared memory): serve's best-effort readers see gaps in the writer's sequence numbers and
+// the status counts the samples lost, which the other counters cannot show (those samples never arrive).
+TEST(ServeLoopback, SamplesLostOnTheNetworkAreCountedInTheStatus) {
+  const std::string dataset = CityDataset(12, 1);
+  const int domain = test::DomainFor(test::DdsTestSlot::kLoopbackSamplesLost);
+  std::vector<std::string> args = ServeArgs(domain, dataset, test::TempPath("serve_lost_out"));
+  *std::next(std::find(args.begin(), args.end(), "--profiles")) = kProfiles;  // best-effort sensor readers
+  test::Process serve(args, test::TempPath("serve_lost.log"));
+  Listener listener(domain, "");
+
+  dds::DomainParticipantQos qos;
+  qos.transport().use_builtin_transports = false;
+  auto lossy = std::make_shared<eprosima::fastdds::rtps::test_UDPv4TransportDescriptor>();
+  lossy->dropDataMessagesPercentage = 50;
+  qos.transport().user_transports.push_back(lossy);
+  auto* factory = dds::DomainParticipantFactory::get_instance();
+  dds::DomainParticipant* participant = factory->create_participant(domain, qos);
+  ASSERT_NE(participant, nullptr);
+  dds::TypeSupport type(new nav_msgs::msg::OdometryPubSubType());
+  type.register_type(participant);
+  dds::Topic* topic = participant->create_topic(TopicsFor("").odometry, type.get_type_name(), dds::TOPIC_QOS_DEFAULT);
+  dds::Publisher* publisher = participant->create_publisher(dds::PUBLISHER_QOS_DEFAULT);
+  dds::DataWriterQos writer_qos = dds::DATAWRITER_QOS_DEFAULT;
+  writer_qos.reliability().kind = dds::BEST_EFFORT_RELIABILITY_QOS;  // a camera driver's sensor-data QoS
+  writer_qos.history().depth = 5;
+  dds::DataWriter* writer = publisher->create_datawriter(topic, writer_qos);
+  ASSERT_NE(writer, nullptr);
+  for (int i = 0; i < 600; ++i) {  // discovery goes through the lossy transport too: it takes retries
+    dds::PublicationMatchedStatus matched;
+    writer->get_publication_matched_status(matched);
+    if (matched.current_count > 0) break;
+    std::this_thread::sleep_for(50ms);
+  }
+  constexpr int kSamples = 60;
+  for (int i = 0; i < kSamples; ++i) {
+    auto odometry = EncodeOdometry(SE3(), 1'000'000'000 + 100'000'000LL * i, "o", "c");
+    writer->write(&odometry);
+    std::this_thread::sleep_for(10ms);
+  }
+  const bool counted = listener.waitUntil(
+      [&] { return !listener.statuses.empty() && listener.statuses.back().samples_lost() >= 5u; }, 30s);
+  EXPECT_TRUE(counted) << listener.summary();
+  {
+    std::lock_guard<std::mutex> lock(listener.mutex);
+    if (!listener.statuses.empty()) {
+      const auto& status = listener.statuses.back();
+      EXPECT_LE(status.frames_received() + status.samples_lost(), static_cast<uint64_t>(kSamples));
+      EXPECT_GT(status.frames_received(), 0u);
+    }
+  }
+  participant->delete_contained_entities();
+  factory->delete_participant(participant);
   serve.signal(SIGTERM);
   EXPECT_EQ(serve.wait(60s), 0);
 }

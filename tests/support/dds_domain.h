@@ -10,7 +10,7 @@ namespace dslam::test {
 // Slots of the tests that start DDS participants, one each: tests that ctest runs at the same time
 // never share a domain. (Ids derived from the pid did: two concurrent tests' ids met about once in 50.)
 enum class DdsTestSlot { kLoopbackEqual = 0, kLoopbackBadSamples, kLoopbackRestart, kLoopbackTwoProcesses, kSecurity,
-                         kLoopbackSigkill, kServeNodeErrors, kPublishStop, kLoopbackSecondSignal };
+                         kLoopbackSigkill, kServeNodeErrors, kPublishStop, kLoopbackSecondSignal, kLoopbackSamplesLost };
 
 // The slot's domain id: the base (0, 10, ..., 190) comes from the test binary's directory, so that the
 // suites of two build trees run at once on one host collide only 1 time in 20.

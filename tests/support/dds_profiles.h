@@ -6,6 +6,7 @@
 #include <fstream>
 #include <string>
 
+#include "plugin/transport_profiles.h"
 #include "support/child_process.h"
 
 namespace dslam::test {
@@ -49,13 +50,7 @@ inline std::string WithLosslessSensorStreams(const std::string& profiles_in, con
 // Writes `profiles_in` to `profiles_out` without the shared-memory transport (UDPv4 only), as a participant
 // on another host or another DDS implementation talks to serve, and returns `profiles_out`.
 inline std::string WithoutSharedMemory(const std::string& profiles_in, const std::string& profiles_out) {
-  std::string xml = ReadFile(profiles_in);
-  const std::string shm = "<transport_id>dslam_shm</transport_id>";
-  const size_t user = xml.find("<userTransports>");
-  const size_t at = user == std::string::npos ? std::string::npos : xml.find(shm, user);
-  EXPECT_NE(at, std::string::npos) << profiles_in << ": expected " << shm << " in <userTransports>";
-  if (at != std::string::npos) xml.erase(at, shm.size());
-  std::ofstream(profiles_out) << xml;
+  std::ofstream(profiles_out) << WithoutSharedMemoryTransport(ReadFile(profiles_in));
   return profiles_out;
 }
 
