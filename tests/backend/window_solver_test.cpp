@@ -127,19 +127,9 @@ TEST(Marginalisation, HeldMeasurementsWeighOutliersAtTheCurrentEstimate) {
 TEST(Marginalisation, ALeavingMeasurementBecomesTheLandmarksPriorAndTheCameraIsFinal) {
   BackendParams params;
   params.landmark_history_frames = 0;  // folded at once
-  FactorGraph graph;
-  GraphBuilder builder(params, BuilderOptions{}, &graph);
-  const SE3 T1(RotationExp(Vec3(0.0, 0.1, 0.0)), Vec3(0.5, 0.0, 1.0));
-  const Vec3 landmark(1.0, -0.5, 10.0);
-  FrameMeasurement f0, f1;
-  f0.static_points = {{7, landmark}};
-  f1.frame_index = 1;
-  f1.odometry = OdometryMeasurement{T1, Vec6::Constant(0.01)};
-  f1.static_points = {{7, T1.inverse() * landmark}};
-  builder.addFrame(f0);
-  builder.addFrame(f1);
-  Recorder sink;
-  MarginaliseCameraFrame(params, 0, &graph, &sink);
+  TwoFrameLandmark t(params);
+  const FactorGraph& graph = t.graph;
+  const Recorder& sink = t.sink;
   ASSERT_EQ(sink.cameras, std::vector<int>{0});
   ASSERT_EQ(sink.points.size(), 1u);
   EXPECT_EQ(sink.points[0].track_id, 7);
@@ -148,7 +138,8 @@ TEST(Marginalisation, ALeavingMeasurementBecomesTheLandmarksPriorAndTheCameraIsF
   // Camera 0 at the identity: information diag(1/sigma^2), mean at the measured point.
   const double w = 1.0 / (params.noise.point_sigma_m * params.noise.point_sigma_m);
   EXPECT_TRUE(p.prior_info.isApprox(w * Mat3::Identity(), 1e-12));
-  EXPECT_TRUE(p.prior_info.ldlt().solve(p.prior_info_vec).isApprox(landmark, 1e-12));
+  EXPECT_TRUE(p.prior_info.ldlt().solve(p.prior_info_vec).isApprox(t.landmark, 1e-12));
+  EXPECT_TRUE(p.held.empty());
   EXPECT_TRUE(graph.frame(0).measurements.empty());
   EXPECT_EQ(graph.first_stored_frame, 0);  // camera 0 stays as the next window's anchor
 }
