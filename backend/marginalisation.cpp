@@ -44,9 +44,6 @@ Vec6 LinearFactorResidual(const FactorGraph& graph, const LinearPointFactor& lf)
   return lf.r0 + lf.J * d;
 }
 
-// Information of a camera's measurement of a point, camera held at its estimate: the measurement is
-// linear in the point, r = W (R^T (l - t) - z), so it is exactly the Gaussian N(t + R z, (R W^2 R^T)^-1).
-
 }  // namespace
 
 double SpeedSigmaMps(const MotionVariable& motion, const Vec3& centroid_prev_world, const Vec3& velocity_per_frame,
@@ -283,7 +280,9 @@ void MarginaliseCameraFrame(const BackendParams& params, int m, FactorGraph* gra
       ended.insert(e.point_var);
       continue;
     }
-    // Held as a robust factor for landmark_history_frames frames, then folded into the prior.
+    // Held as a robust factor for landmark_history_frames frames, then folded into the prior. With the
+    // camera held the measurement is linear in the point, r = W (R^T (l - t) - z) = W R^T (l - (t + R z)),
+    // so the fold is exact but for the Huber weight, frozen when it folds.
     var.held.push_back({e.sigma_m.cwiseInverse().asDiagonal() * R.transpose(), t + R * e.z_camera, m});
     while (static_cast<int>(var.held.size()) > params.landmark_history_frames) var.foldOldestHeld(var.position(), huber);
   }
