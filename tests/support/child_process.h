@@ -21,9 +21,12 @@ namespace dslam::test {
 
 class Process {
  public:
-  Process(const std::vector<std::string>& args, const std::string& log) {
+  // The dslam binary with `args`.
+  Process(const std::vector<std::string>& args, const std::string& log) : Process(DSLAM_BINARY, args, log) {}
+  // Another program (a test client).
+  Process(const std::string& program, const std::vector<std::string>& args, const std::string& log) {
     std::vector<char*> argv;
-    std::vector<std::string> all = {DSLAM_BINARY};
+    std::vector<std::string> all = {program};
     all.insert(all.end(), args.begin(), args.end());
     for (auto& a : all) argv.push_back(a.data());
     argv.push_back(nullptr);

@@ -1,0 +1,142 @@
+// serve read by a ROS 2 node built on another DDS implementation: a Cyclone DDS client
+// (tests/interop/cyclone_listener.c, types from ROS 2-faithful IDL, ROS 2's default subscription QoS),
+// over UDP with shared memory off on the Fast DDS side, as a node on another host would read it.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "output/trajectory_io.h"
+#include "support/child_process.h"
+#include "support/dds_domain.h"
+#include "support/dds_profiles.h"
+#include "support/rendered_city.h"
+#include "support/temp_paths.h"
+
+namespace dslam {
+namespace {
+using namespace std::chrono_literals;
+
+const std::string kProfiles = std::string(DSLAM_SOURCE_DIR) + "/config/dds_profiles.xml";
+
+struct Decoded {
+  std::map<int64_t, std::vector<double>> odometry;  // stamp -> x y z qx qy qz qw
+  std::map<int64_t, int> objects_per_stamp;
+  std::vector<std::vector<std::string>> object_rows, status_rows, odometry_rows, objects_rows;
+};
+
+Decoded ReadDecoded(const std::string& path) {
+  Decoded d;
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream fields(line);
+    std::vector<std::string> f;
+    for (std::string x; fields >> x;) f.push_back(x);
+    if (f.empty()) continue;
+    const auto stamp = [&] { return std::stoll(f[1]) * 1'000'000'000LL + std::stoll(f[2]); };
+    if (f[0] == "odometry" && f.size() == 12) {
+      std::vector<double> pose;
+      for (size_t i = 5; i < 12; ++i) pose.push_back(std::stod(f[i]));
+      d.odometry[stamp()] = pose;
+      d.odometry_rows.push_back(f);
+    } else if (f[0] == "objects" && f.size() == 5) {
+      d.objects_per_stamp[stamp()] = std::stoi(f[4]);
+      d.objects_rows.push_back(f);
+    } else if (f[0] == "object" && f.size() == 14) {
+      d.object_rows.push_back(f);
+    } else if (f[0] == "status" && f.size() == 12) {
+      d.status_rows.push_back(f);
+    } else {
+      ADD_FAILURE() << path << ": unexpected line: " << line;
+    }
+  }
+  return d;
+}
+
+TEST(CycloneInterop, ARos2NodeOnCycloneDdsDecodesEveryEstimateObjectMotionAndStatusOverUdp) {
+  constexpr int kFrames = 12;
+  const std::string dataset = test::RenderedCity("cyclone_city_12", kFrames, 1);
+  ASSERT_FALSE(dataset.empty());
+  const int domain = test::DomainFor(test::DdsTestSlot::kCycloneListener);
+  // Lossless sensor streams (the test compares every frame), and UDP only on the Fast DDS side.
+  const std::string profiles = test::WithoutSharedMemory(
+      test::WithLosslessSensorStreams(kProfiles, test::TempPath("cyclone_lossless.xml")),
+      test::TempPath("cyclone_lossless_udp.xml"));
+  const std::string out = test::TempPath("cyclone_serve_out");
+  test::Process serve({"serve", "--domain", std::to_string(domain), "--profiles", profiles, "--calib",
+                       dataset + "/calib.txt", "--out", out, "--status-every", "0", "--max-pending", "64",
+                       "--max-pending-mb", "2048", "--timeout-ms", "5000", "--silence-ms", "30000"},
+                      test::TempPath("cyclone_serve.log"));
+  const std::string decoded_path = test::TempPath("cyclone_decoded.txt");
+  test::Process listener(DSLAM_CYCLONE_LISTENER,
+                         {std::to_string(domain), "rt/", std::to_string(kFrames), "120", decoded_path},
+                         test::TempPath("cyclone_listener.log"));
+  // The listener is volatile, as ROS 2's default: it must have discovered serve before the estimates.
+  std::this_thread::sleep_for(4s);
+  test::Process publish({"publish", "--domain", std::to_string(domain), "--profiles", profiles, "--dataset", dataset,
+                         "--rate", "5", "--wait", "60"},
+                        test::TempPath("cyclone_publish.log"));
+  ASSERT_EQ(publish.wait(120s), 0) << test::ReadFile(test::TempPath("cyclone_publish.log"));
+  EXPECT_EQ(listener.wait(150s), 0) << test::ReadFile(test::TempPath("cyclone_listener.log"));
+  serve.signal(SIGTERM);
+  ASSERT_EQ(serve.wait(60s), 0) << test::ReadFile(test::TempPath("cyclone_serve.log"));
+
+  const Decoded d = ReadDecoded(decoded_path);
+  // Every camera estimate, equal to what serve published (its camera_ours_online.tum, 9 decimals).
+  std::vector<int64_t> t_ns;
+  const std::vector<SE3> published = ReadTumTrajectory(out + "/default/camera_ours_online.tum", &t_ns);
+  ASSERT_EQ(published.size(), static_cast<size_t>(kFrames));
+  ASSERT_EQ(d.odometry.size(), static_cast<size_t>(kFrames));
+  for (size_t k = 0; k < published.size(); ++k) {
+    const auto it = d.odometry.lower_bound(t_ns[k] - 1000);
+    ASSERT_NE(it, d.odometry.end()) << k;
+    ASSERT_LE(std::llabs(it->first - t_ns[k]), 1000) << k;
+    const Vec3 t = published[k].translation();
+    const auto q = published[k].rotation();
+    const std::vector<double> expected = {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()};
+    for (int i = 0; i < 7; ++i) EXPECT_NEAR(it->second[i], expected[i], 2e-9) << "frame " << k << " field " << i;
+  }
+  for (const auto& row : d.odometry_rows) {
+    EXPECT_EQ(row[3], "world");
+    EXPECT_EQ(row[4], "camera");
+  }
+  // One object array per frame, stamped as its camera estimate, in the world frame, every field decoded.
+  ASSERT_EQ(d.objects_per_stamp.size(), static_cast<size_t>(kFrames));
+  int objects = 0;
+  for (const auto& [stamp, count] : d.objects_per_stamp) {
+    EXPECT_TRUE(d.odometry.count(stamp)) << stamp;
+    objects += count;
+  }
+  for (const auto& row : d.objects_rows) EXPECT_EQ(row[3], "world");
+  ASSERT_EQ(d.object_rows.size(), static_cast<size_t>(objects));
+  EXPECT_GT(objects, kFrames);  // the city has cars in view in every frame after the first
+  for (const auto& row : d.object_rows) {
+    EXPECT_GT(std::stoi(row[1]), 0);
+    EXPECT_TRUE(row[2] == "0" || row[2] == "1");
+    const double speed = std::stod(row[3]), vx = std::stod(row[4]), vy = std::stod(row[5]), vz = std::stod(row[6]);
+    EXPECT_NEAR(speed, std::sqrt(vx * vx + vy * vy + vz * vz), 1e-6 * std::max(1.0, speed));
+    EXPECT_LE(std::abs(std::stod(row[10])), 1.0);  // the orientation's w of H
+    EXPECT_GE(std::stod(row[11]), 0.0);             // covariance diagonal entries
+    EXPECT_GE(std::stod(row[12]), 0.0);
+    EXPECT_EQ(row[13], "1");                        // all 36 finite
+  }
+  // The status, field by field: the last one counts the whole session.
+  ASSERT_FALSE(d.status_rows.empty());
+  const std::vector<std::string>& last = d.status_rows.back();
+  EXPECT_EQ(last[3], "-");  // no vehicle namespace
+  EXPECT_EQ(std::stoull(last[4]), 4u * kFrames);  // colour, depth, mask, odometry
+  EXPECT_EQ(std::stoull(last[5]), static_cast<uint64_t>(kFrames));
+  EXPECT_EQ(std::stoull(last[6]), static_cast<uint64_t>(kFrames));
+  for (int i = 7; i <= 10; ++i) EXPECT_EQ(last[i], "0") << "field " << i;  // nothing dropped, rejected or lost
+  EXPECT_GT(std::stod(last[11]), 0.0);  // latency
+}
+
+}  // namespace
+}  // namespace dslam
