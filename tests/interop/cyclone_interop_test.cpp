@@ -6,18 +6,24 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <map>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include <opencv2/imgproc.hpp>
+
+#include "data/image_dataset.h"
 #include "output/trajectory_io.h"
 #include "support/child_process.h"
 #include "support/dds_domain.h"
 #include "support/dds_profiles.h"
 #include "support/rendered_city.h"
+#include "support/serve_reference.h"
 #include "support/temp_paths.h"
 
 namespace dslam {
@@ -29,12 +35,14 @@ const std::string kProfiles = std::string(DSLAM_SOURCE_DIR) + "/config/dds_profi
 struct Decoded {
   std::map<int64_t, std::vector<double>> odometry;  // stamp -> x y z qx qy qz qw
   std::map<int64_t, int> objects_per_stamp;
+  std::map<int64_t, std::vector<std::vector<std::string>>> objects_by_stamp;  // the object rows of each array
   std::vector<std::vector<std::string>> object_rows, status_rows, odometry_rows, objects_rows;
 };
 
 Decoded ReadDecoded(const std::string& path) {
   Decoded d;
   std::ifstream in(path);
+  int64_t array_stamp = -1;
   for (std::string line; std::getline(in, line);) {
     std::istringstream fields(line);
     std::vector<std::string> f;
@@ -47,10 +55,13 @@ Decoded ReadDecoded(const std::string& path) {
       d.odometry[stamp()] = pose;
       d.odometry_rows.push_back(f);
     } else if (f[0] == "objects" && f.size() == 5) {
-      d.objects_per_stamp[stamp()] = std::stoi(f[4]);
+      array_stamp = stamp();
+      d.objects_per_stamp[array_stamp] = std::stoi(f[4]);
+      d.objects_by_stamp[array_stamp];
       d.objects_rows.push_back(f);
     } else if (f[0] == "object" && f.size() == 14) {
       d.object_rows.push_back(f);
+      d.objects_by_stamp[array_stamp].push_back(f);
     } else if (f[0] == "status" && f.size() == 12) {
       d.status_rows.push_back(f);
     } else {
@@ -136,6 +147,99 @@ TEST(CycloneInterop, ARos2NodeOnCycloneDdsDecodesEveryEstimateObjectMotionAndSta
   EXPECT_EQ(std::stoull(last[6]), static_cast<uint64_t>(kFrames));
   for (int i = 7; i <= 10; ++i) EXPECT_EQ(last[i], "0") << "field " << i;  // nothing dropped, rejected or lost
   EXPECT_GT(std::stod(last[11]), 0.0);  // latency
+}
+
+// The frames of `dataset` as a camera driver holds them: raw rgb8 colour, 32FC1 depth and 16UC1 mask files,
+// and a line per frame for dslam_cyclone_camera_driver (the odometry as dslam publish sends it: the pose
+// accumulated from the increments, the increment's sigmas per second since the previous frame).
+std::string DriverFrames(const std::string& dataset, const std::string& dir) {
+  const ImageDataset data(dataset, ImageDatasetOptions{});
+  std::filesystem::create_directories(dir);
+  const std::string list = dir + "/frames.txt";
+  std::ofstream out(list);
+  out << std::setprecision(17);
+  SE3 T_odom_camera;
+  int64_t previous_t_ns = 0;
+  auto write = [&](const cv::Mat& m, const std::string& path) {
+    const cv::Mat c = m.isContinuous() ? m : m.clone();
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(c.data), c.total() * c.elemSize());
+  };
+  for (int k = 0; k < data.size(); ++k) {
+    const ImageFrame f = data.read(k);
+    Vec6 sigma = Vec6::Constant(0.01);
+    if (f.odometry) T_odom_camera = T_odom_camera * f.odometry->T_prev_curr, sigma = f.odometry->sigma;
+    const double dt_s = k > 0 ? static_cast<double>(f.t_ns - previous_t_ns) * 1e-9 : 0.0;
+    const Vec6 twist_sigma = dt_s > 0.0 ? Vec6(sigma / dt_s) : Vec6::Zero();
+    previous_t_ns = f.t_ns;
+    cv::Mat rgb, ids;
+    cv::cvtColor(f.image, rgb, cv::COLOR_BGR2RGB);
+    f.instance_ids.convertTo(ids, CV_16U);
+    const std::string stem = dir + "/" + std::to_string(k);
+    write(rgb, stem + "_rgb8.raw");
+    write(f.depth_m, stem + "_32fc1.raw");
+    write(ids, stem + "_16uc1.raw");
+    const Vec3 t = T_odom_camera.translation();
+    const auto q = T_odom_camera.rotation();
+    out << f.t_ns << ' ' << f.image.rows << ' ' << f.image.cols << ' ' << t.x() << ' ' << t.y() << ' ' << t.z() << ' '
+        << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << q.w();
+    for (int i = 0; i < 6; ++i) out << ' ' << twist_sigma[i];
+    out << ' ' << stem << "_rgb8.raw " << stem << "_32fc1.raw " << stem << "_16uc1.raw\n";
+  }
+  return list;
+}
+
+// A ROS 2 camera driver on Cyclone DDS feeds serve as rclcpp would: sensor-data QoS (best effort, keep last 5),
+// rgb8 colour, 32FC1 depth, 16UC1 mask, odometry, over UDP with shared memory off on the Fast DDS side (serve's
+// shipped profile otherwise). Every frame is estimated, and the estimates (read back by the Cyclone listener)
+// equal what the same frames give through serve's code as dslam publish feeds it, to 1e-9.
+TEST(CycloneInterop, ACameraDriverOnCycloneDdsFeedsServeAndEveryFrameIsEstimatedExactly) {
+  constexpr int kFrames = 12;
+  const std::string dataset = test::RenderedCity("cyclone_city_12", kFrames, 1);
+  ASSERT_FALSE(dataset.empty());
+  const int domain = test::DomainFor(test::DdsTestSlot::kCycloneCameraDriver);
+  const std::string profiles = test::WithoutSharedMemory(kProfiles, test::TempPath("cyclone_driver_udp.xml"));
+  const std::string frames = DriverFrames(dataset, test::TempPath("cyclone_driver_frames"));
+  test::Process serve({"serve", "--domain", std::to_string(domain), "--profiles", profiles, "--calib",
+                       dataset + "/calib.txt", "--out", test::TempPath("cyclone_driver_out"), "--status-every", "0",
+                       "--max-pending", "64", "--max-pending-mb", "2048", "--timeout-ms", "5000", "--silence-ms",
+                       "30000"},
+                      test::TempPath("cyclone_driver_serve.log"));
+  const std::string decoded_path = test::TempPath("cyclone_driver_decoded.txt");
+  test::Process listener(DSLAM_CYCLONE_LISTENER,
+                         {std::to_string(domain), "rt/", std::to_string(kFrames), "150", decoded_path},
+                         test::TempPath("cyclone_driver_listener.log"));
+  std::this_thread::sleep_for(4s);  // the listener is volatile: it must know serve before the estimates
+  test::Process driver(DSLAM_CYCLONE_CAMERA_DRIVER, {std::to_string(domain), "rt/", frames, "2"},
+                       test::TempPath("cyclone_driver.log"));
+  ASSERT_EQ(driver.wait(120s), 0) << test::ReadFile(test::TempPath("cyclone_driver.log"));
+  EXPECT_EQ(listener.wait(150s), 0) << test::ReadFile(test::TempPath("cyclone_driver_listener.log"));
+  serve.signal(SIGTERM);
+  ASSERT_EQ(serve.wait(60s), 0) << test::ReadFile(test::TempPath("cyclone_driver_serve.log"));
+
+  const Decoded d = ReadDecoded(decoded_path);
+  const std::vector<FrameEstimate> reference = test::ServeReference(dataset);
+  ASSERT_EQ(reference.size(), static_cast<size_t>(kFrames));
+  ASSERT_EQ(d.odometry.size(), reference.size());
+  for (const FrameEstimate& e : reference) {
+    ASSERT_TRUE(d.odometry.count(e.t_ns)) << e.t_ns;
+    const std::vector<double>& got = d.odometry.at(e.t_ns);
+    const Vec3 t = e.T_world_camera.translation();
+    const auto q = e.T_world_camera.rotation();
+    const std::vector<double> expected = {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()};
+    for (int i = 0; i < 7; ++i) EXPECT_NEAR(got[i], expected[i], 1e-9) << e.t_ns << " field " << i;
+    const auto& objects = d.objects_by_stamp.at(e.t_ns);
+    ASSERT_EQ(objects.size(), e.object_motions.size()) << e.t_ns;
+    for (size_t i = 0; i < objects.size(); ++i) {
+      EXPECT_EQ(std::stoi(objects[i][1]), e.object_motions[i].object_id);
+      EXPECT_EQ(objects[i][2] == "1", e.object_motions[i].is_dynamic);
+      EXPECT_NEAR(std::stod(objects[i][3]), e.object_motions[i].speed_mps, 1e-9);
+    }
+  }
+  ASSERT_FALSE(d.status_rows.empty());
+  const std::vector<std::string>& last = d.status_rows.back();
+  EXPECT_EQ(std::stoull(last[4]), 4u * kFrames);                      // every sample arrived
+  EXPECT_EQ(std::stoull(last[6]), static_cast<uint64_t>(kFrames));  // every frame estimated
+  for (int i = 7; i <= 10; ++i) EXPECT_EQ(last[i], "0") << "field " << i;
 }
 
 }  // namespace

@@ -37,6 +37,7 @@
 #include "support/dds_profiles.h"
 #include "support/no_display.h"
 #include "support/rendered_city.h"
+#include "support/serve_reference.h"
 #include "support/temp_paths.h"
 
 namespace dslam {
@@ -154,42 +155,6 @@ class Listener {
   TypedListener<dslam_msgs::msg::Status, OnStatus> status_;
 };
 
-// What serve must compute: the dataset's frames through the same message round trip and assembly,
-// then the online pipeline (as `dslam run` computes ours).
-std::vector<FrameEstimate> Reference(const std::string& dir, MethodResult* final_result = nullptr) {
-  RunConfig config;
-  config.backend.default_mode = MotionMode::kSmoothed;
-  config.backend.schedule = {ScheduleKind::kSlidingWindow, 10};
-  const ImageDataset data(dir, config.dataset);
-  PinholeCamera camera = data.camera();
-  VehiclePipeline pipeline(config, camera, data.frameRateHz());
-  AssemblerParams params;
-  params.expect_odometry = true;
-  FrameAssembler assembler(params);
-  SE3 T_odom_camera;
-  std::vector<FrameEstimate> out;
-  std::string error;
-  int64_t previous_t_ns = 0;
-  for (int k = 0; k < data.size(); ++k) {
-    const ImageFrame f = data.read(k);
-    Vec6 sigma = Vec6::Constant(0.01);
-    if (f.odometry) T_odom_camera = T_odom_camera * f.odometry->T_prev_curr, sigma = f.odometry->sigma;
-    assembler.addColour(f.t_ns, DecodeImage(EncodeImage(f.image, ImageRole::kColour, f.t_ns, "c"), ImageRole::kColour).image);
-    assembler.addDepth(f.t_ns, DecodeImage(EncodeImage(f.depth_m, ImageRole::kDepth, f.t_ns, "c"), ImageRole::kDepth).image);
-    cv::Mat ids;
-    f.instance_ids.convertTo(ids, CV_16U);
-    assembler.addMask(f.t_ns, DecodeImage(EncodeImage(ids, ImageRole::kMask, f.t_ns, "c"), ImageRole::kMask).image);
-    // As dslam publish sends it: the increment's sigma per second since the previous frame.
-    const double dt_s = k > 0 ? static_cast<double>(f.t_ns - previous_t_ns) * 1e-9 : 0.0;
-    const Vec6 twist_sigma = dt_s > 0.0 ? Vec6(sigma / dt_s) : Vec6::Zero();
-    previous_t_ns = f.t_ns;
-    assembler.addOdometry(f.t_ns, *DecodeOdometry(EncodeOdometry(T_odom_camera, f.t_ns, "o", "c", twist_sigma), &error));
-    for (const ImageFrame& ready : assembler.takeReady()) out.push_back(pipeline.process(ready));
-  }
-  if (final_result) *final_result = pipeline.finish();
-  return out;
-}
-
 void ExpectSameEstimates(const std::vector<FrameEstimate>& reference, Listener& listener) {
   std::lock_guard<std::mutex> lock(listener.mutex);
   ASSERT_EQ(listener.poses_by_stamp.size(), reference.size());
@@ -232,8 +197,8 @@ void ExpectBothEqualTheirReferences(Listener& a, const std::string& city_a, List
                                     size_t frames) {
   ASSERT_TRUE(a.waitFor(frames, 60s)) << a.summary();
   ASSERT_TRUE(b.waitFor(frames, 60s)) << b.summary();
-  ExpectSameEstimates(Reference(city_a), a);
-  ExpectSameEstimates(Reference(city_b), b);
+  ExpectSameEstimates(test::ServeReference(city_a), a);
+  ExpectSameEstimates(test::ServeReference(city_b), b);
 }
 
 // The shipped profiles with lossless sensor streams, for serve and the publishers. Written once per
@@ -270,7 +235,7 @@ TEST(ServeLoopback, EstimatesEqualTheRecordedRunAndSigtermWritesTheResults) {
   Listener listener(domain, "");
   test::Process publish(PublishArgs(domain, dataset, "20"), test::TempPath("publish.log"));
   ASSERT_EQ(publish.wait(120s), 0) << test::ReadFile(test::TempPath("publish.log"));
-  const std::vector<FrameEstimate> reference = Reference(dataset);
+  const std::vector<FrameEstimate> reference = test::ServeReference(dataset);
   ASSERT_TRUE(listener.waitFor(reference.size(), 240s)) << listener.summary();
   ExpectSameEstimates(reference, listener);
 
@@ -344,7 +309,7 @@ TEST(ServeLoopback, SigkillLeavesEveryFrameThatLeftTheWindowOnDisk) {
   std::vector<int64_t> t_ns;
   const std::vector<SE3> streamed = ReadTumTrajectory(out + "/default/camera_ours.tum", &t_ns);
   MethodResult full;
-  const std::vector<FrameEstimate> online = Reference(dataset, &full);
+  const std::vector<FrameEstimate> online = test::ServeReference(dataset, &full);
   // At least the frames that left the window (10 frames) of the 20 estimated, each equal to the final pose
   // of an uninterrupted run (to the 1e-9 m of the file's fixed 9 decimals).
   ASSERT_GE(streamed.size(), 10u);
