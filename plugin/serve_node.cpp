@@ -19,10 +19,12 @@
 #include "output/whole_file.h"
 #include "plugin/dds_session.h"
 #include "plugin/image_message.h"
+#include "plugin/object_markers.h"
 #include "plugin/topics.h"
 #include "pipeline/bounded_queue.h"
 #include "pipeline/staged_pipeline.h"
 #include "sensor_msgs_ImagePubSubTypes.h"
+#include "visualization_msgs_MarkerArrayPubSubTypes.h"
 
 namespace dslam {
 namespace dds = eprosima::fastdds::dds;
@@ -79,6 +81,8 @@ class Vehicle {
     objects_writer_ =
         session.writer(topics.object_motions, new dslam_msgs::msg::ObjectMotionArrayPubSubType(), "estimate_writer");
     status_writer_ = session.writer(topics.status, new dslam_msgs::msg::StatusPubSubType(), "estimate_writer");
+    markers_writer_ =
+        session.writer(topics.markers, new visualization_msgs::msg::MarkerArrayPubSubType(), "estimate_writer");
     StagedPipelineCallbacks callbacks;
     callbacks.on_estimate = [this](const FrameEstimate& e, const FrameMeasurement& m) { publish(e, m); };
     callbacks.on_rejected = [this](const ImageFrame& frame, const std::string& reason) {
@@ -317,6 +321,8 @@ class Vehicle {
     odometry_writer_->write(&odometry);
     dslam_msgs::msg::ObjectMotionArray objects = ToMessage(estimate, options_.frame_rate_hz);
     objects_writer_->write(&objects);
+    visualization_msgs::msg::MarkerArray markers = ObjectMarkers(estimate, options_.frame_rate_hz);
+    markers_writer_->write(&markers);
     {
       std::lock_guard<std::mutex> lock(mutex_);
       ++status_.frames_processed;
@@ -374,7 +380,8 @@ class Vehicle {
   std::mutex status_writer_mutex_;
   ImageListener colour_listener_, depth_listener_, mask_listener_;
   OdometryListener odometry_listener_;
-  dds::DataWriter *odometry_writer_ = nullptr, *objects_writer_ = nullptr, *status_writer_ = nullptr;
+  dds::DataWriter *odometry_writer_ = nullptr, *objects_writer_ = nullptr, *status_writer_ = nullptr,
+                  *markers_writer_ = nullptr;
   std::thread intake_, feeder_;
 };
 

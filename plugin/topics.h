@@ -9,6 +9,7 @@ namespace dslam {
 struct VehicleTopics {
   std::string colour, depth, mask, odometry;           // inputs
   std::string camera_odometry, object_motions, status;  // outputs
+  std::string markers;                                  // output for RViz
 };
 
 // Empty when `vehicle` can name a vehicle: "" (no namespace) or ROS 2 name tokens ([A-Za-z_][A-Za-z0-9_]*)
@@ -38,7 +39,7 @@ inline VehicleTopics TopicsFor(const std::string& vehicle) {
   const std::string ns = vehicle.empty() ? "rt/" : "rt/" + vehicle + "/";
   return {ns + "camera/color/image_raw",        ns + "camera/depth/image_raw", ns + "camera/instance_mask",
           ns + "odom",                          ns + "dslam/camera_odometry", ns + "dslam/object_motions",
-          ns + "dslam/status"};
+          ns + "dslam/status",                  ns + "dslam/markers"};
 }
 
 }  // namespace dslam

@@ -38,6 +38,7 @@ struct Decoded {
   std::map<int64_t, std::vector<double>> odometry;  // stamp -> x y z qx qy qz qw
   std::map<int64_t, int> objects_per_stamp;
   std::map<int64_t, std::vector<std::vector<std::string>>> objects_by_stamp;  // the object rows of each array
+  std::map<int64_t, std::vector<std::vector<std::string>>> markers_by_stamp;  // the marker rows of each array
   std::vector<std::vector<std::string>> object_rows, status_rows, odometry_rows, objects_rows;
 };
 
@@ -64,6 +65,11 @@ Decoded ReadDecoded(const std::string& path) {
     } else if (f[0] == "object" && f.size() == 14) {
       d.object_rows.push_back(f);
       d.objects_by_stamp[array_stamp].push_back(f);
+    } else if (f[0] == "markers" && f.size() == 4) {
+      array_stamp = stamp();
+      d.markers_by_stamp[array_stamp];
+    } else if (f[0] == "marker" && f.size() >= 7) {
+      d.markers_by_stamp[array_stamp].push_back(f);
     } else if (f[0] == "status" && f.size() == 12) {
       d.status_rows.push_back(f);
     } else {
@@ -139,6 +145,30 @@ TEST(CycloneInterop, ARos2NodeOnCycloneDdsDecodesEveryEstimateObjectMotionAndSta
     EXPECT_GE(std::stod(row[11]), 0.0);             // covariance diagonal entries
     EXPECT_GE(std::stod(row[12]), 0.0);
     EXPECT_EQ(row[13], "1");                        // all 36 finite
+  }
+  // RViz markers (visualization_msgs/MarkerArray as ROS 2 defines it): per frame a DELETEALL, then per object
+  // a sphere, a text with its id and speed, and for a moving object an arrow with two points.
+  ASSERT_EQ(d.markers_by_stamp.size(), static_cast<size_t>(kFrames));
+  for (const auto& [stamp, rows] : d.markers_by_stamp) {
+    ASSERT_TRUE(d.objects_by_stamp.count(stamp)) << stamp;
+    const auto& frame_objects = d.objects_by_stamp.at(stamp);
+    ASSERT_FALSE(rows.empty());
+    EXPECT_EQ(rows[0][4], "3");  // DELETEALL
+    int spheres = 0, texts = 0, arrows = 0, moving = 0;
+    for (const auto& o : frame_objects) moving += o[2] == "1";
+    for (size_t i = 1; i < rows.size(); ++i) {
+      const int type = std::stoi(rows[i][3]);
+      spheres += type == 2, arrows += type == 0, texts += type == 9;
+      if (type == 0) {
+        EXPECT_EQ(rows[i][5], "2");
+      }
+      if (type == 9) {
+        EXPECT_EQ(rows[i][6].back(), ':') << "the text starts with the id";
+      }
+    }
+    EXPECT_EQ(spheres, static_cast<int>(frame_objects.size())) << stamp;
+    EXPECT_EQ(texts, static_cast<int>(frame_objects.size())) << stamp;
+    EXPECT_LE(arrows, moving) << stamp;
   }
   // The status, field by field: the last one counts the whole session.
   ASSERT_FALSE(d.status_rows.empty());

@@ -6,9 +6,11 @@
  *   objects SEC NANOSEC FRAME_ID COUNT, then per object:
  *   object ID IS_DYNAMIC SPEED VX VY VZ CX CY CZ QW COV00 COV35 COV_FINITE
  *   status SEC NANOSEC VEHICLE|- RECEIVED ASSEMBLED PROCESSED INCOMPLETE QUEUE_FULL REJECTED LOST LATENCY_MS
+ *   markers SEC NANOSEC COUNT (the first marker's stamp), then per marker:
+ *   marker NS ID TYPE ACTION POINTS TEXT (the text last, spaces kept; "-" when empty)
  * Usage: dslam_cyclone_listener DOMAIN TOPIC_PREFIX FRAMES TIMEOUT_S OUT_FILE
- *   TOPIC_PREFIX: "rt/" or "rt/<vehicle>/". Exits 0 once FRAMES camera estimates and a status counting FRAMES
- *   processed frames were decoded, 1 on timeout, 2 on bad arguments or a DDS error. */
+ *   TOPIC_PREFIX: "rt/" or "rt/<vehicle>/". Exits 0 once FRAMES camera estimates, FRAMES marker arrays and a
+ *   status counting FRAMES processed frames were decoded, 1 on timeout, 2 on bad arguments or a DDS error. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -55,15 +57,17 @@ int main(int argc, char** argv) {
   const dds_entity_t objects =
       Reader(participant, prefix, "object_motions", &dslam_msgs_msg_dds__ObjectMotionArray__desc, qos);
   const dds_entity_t status = Reader(participant, prefix, "status", &dslam_msgs_msg_dds__Status__desc, qos);
+  const dds_entity_t markers =
+      Reader(participant, prefix, "markers", &visualization_msgs_msg_dds__MarkerArray__desc, qos);
   dds_delete_qos(qos);
-  if (odometry < 0 || objects < 0 || status < 0) {
+  if (odometry < 0 || objects < 0 || status < 0 || markers < 0) {
     fprintf(stderr, "cannot create the readers\n");
     return 2;
   }
 
-  unsigned long odometry_count = 0, processed = 0;
+  unsigned long odometry_count = 0, processed = 0, marker_arrays = 0;
   const dds_time_t end = dds_time() + (dds_time_t)(timeout_s * 1e9);
-  while (dds_time() < end && !(odometry_count >= frames && processed >= frames)) {
+  while (dds_time() < end && !(odometry_count >= frames && processed >= frames && marker_arrays >= frames)) {
     void* sample = NULL;
     dds_sample_info_t info;
     while (dds_take(odometry, &sample, &info, 1, 1) > 0) {
@@ -110,10 +114,26 @@ int main(int argc, char** argv) {
       dds_return_loan(status, &sample, 1);
       sample = NULL;
     }
+    while (dds_take(markers, &sample, &info, 1, 1) > 0) {
+      const visualization_msgs_msg_dds__MarkerArray_* m = sample;
+      if (info.valid_data) {
+        const uint32_t n = m->markers_._length;
+        fprintf(out, "markers %d %u %u\n", n ? m->markers_._buffer[0].header_.stamp_.sec_ : 0,
+                n ? m->markers_._buffer[0].header_.stamp_.nanosec_ : 0u, n);
+        ++marker_arrays;
+        for (uint32_t i = 0; i < n; ++i) {
+          const visualization_msgs_msg_dds__Marker_* k = &m->markers_._buffer[i];
+          fprintf(out, "marker %s %d %d %d %u %s\n", Text(k->ns_), k->id_, k->type_, k->action_, k->points_._length,
+                  Text(k->text_));
+        }
+      }
+      dds_return_loan(markers, &sample, 1);
+      sample = NULL;
+    }
     fflush(out);
     dds_sleepfor(DDS_MSECS(10));
   }
   fclose(out);
   dds_delete(participant);
-  return odometry_count >= frames && processed >= frames ? 0 : 1;
+  return odometry_count >= frames && processed >= frames && marker_arrays >= frames ? 0 : 1;
 }
