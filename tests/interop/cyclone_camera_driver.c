@@ -11,16 +11,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "dds/dds.h"
+#include "cyclone_client.h"
 #include "ros2_types.h"
 
 static dds_entity_t Writer(dds_entity_t participant, const char* prefix, const char* name,
                            const dds_topic_descriptor_t* type, const dds_qos_t* qos) {
-  char topic_name[256];
-  snprintf(topic_name, sizeof topic_name, "%s%s", prefix, name);
-  const dds_entity_t topic = dds_create_topic(participant, type, topic_name, NULL, NULL);
-  if (topic < 0) return topic;
-  return dds_create_writer(participant, topic, qos, NULL);
+  return ClientEndpoint(participant, prefix, name, type, qos, 1);
 }
 
 static int Matched(dds_entity_t writer) {
@@ -64,15 +60,9 @@ int main(int argc, char** argv) {
     fprintf(stderr, "cannot read %s, or bad rate %s\n", argv[3], argv[4]);
     return 2;
   }
-  const dds_entity_t participant = dds_create_participant(domain, NULL, NULL);
-  if (participant < 0) {
-    fprintf(stderr, "dds_create_participant: %s\n", dds_strretcode(-participant));
-    return 2;
-  }
-  dds_qos_t* qos = dds_create_qos();  // rclcpp::SensorDataQoS()
-  dds_qset_reliability(qos, DDS_RELIABILITY_BEST_EFFORT, 0);
-  dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
-  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 5);
+  const dds_entity_t participant = ClientParticipant(domain);
+  if (participant < 0) return 2;
+  dds_qos_t* qos = Ros2Qos(1);
   const dds_entity_t colour = Writer(participant, prefix, "camera/color/image_raw", &sensor_msgs_msg_dds__Image__desc, qos);
   const dds_entity_t depth = Writer(participant, prefix, "camera/depth/image_raw", &sensor_msgs_msg_dds__Image__desc, qos);
   const dds_entity_t mask = Writer(participant, prefix, "camera/instance_mask", &sensor_msgs_msg_dds__Image__desc, qos);

@@ -10,7 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "dds/dds.h"
+#include "cyclone_client.h"
 #include "ros2_types.h"
 
 int main(int argc, char** argv) {
@@ -24,25 +24,16 @@ int main(int argc, char** argv) {
   const double timeout_s = atof(argv[4]);
   FILE* out = fopen(argv[5], "w");
   if (!out) return 2;
-  const dds_entity_t participant = dds_create_participant(domain, NULL, NULL);
-  if (participant < 0) {
-    fprintf(stderr, "dds_create_participant: %s\n", dds_strretcode(-participant));
-    return 2;
-  }
-  dds_qos_t* qos = dds_create_qos();  // rclcpp::SensorDataQoS()
-  dds_qset_reliability(qos, DDS_RELIABILITY_BEST_EFFORT, 0);
-  dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
-  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 5);
+  const dds_entity_t participant = ClientParticipant(domain);
+  if (participant < 0) return 2;
+  dds_qos_t* qos = Ros2Qos(1);
   const char* image_topics[3] = {"camera/color/image_raw", "camera/depth/image_raw", "camera/instance_mask"};
   dds_entity_t readers[4];
   for (int i = 0; i < 4; ++i) {
-    char name[256];
-    snprintf(name, sizeof name, "%s%s", prefix, i < 3 ? image_topics[i] : "odom");
-    const dds_entity_t topic = dds_create_topic(
-        participant, i < 3 ? &sensor_msgs_msg_dds__Image__desc : &nav_msgs_msg_dds__Odometry__desc, name, NULL, NULL);
-    readers[i] = topic < 0 ? topic : dds_create_reader(participant, topic, qos, NULL);
+    readers[i] = ClientEndpoint(participant, prefix, i < 3 ? image_topics[i] : "odom",
+                                i < 3 ? &sensor_msgs_msg_dds__Image__desc : &nav_msgs_msg_dds__Odometry__desc, qos, 0);
     if (readers[i] < 0) {
-      fprintf(stderr, "cannot create a reader of %s\n", name);
+      fprintf(stderr, "cannot create the reader of %s\n", i < 3 ? image_topics[i] : "odom");
       return 2;
     }
   }

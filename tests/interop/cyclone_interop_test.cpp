@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iomanip>
 #include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <string>
@@ -79,6 +80,26 @@ Decoded ReadDecoded(const std::string& path) {
   return d;
 }
 
+// serve on `domain` with the given profiles, for the city in `dataset`; generous timeouts (a loaded machine).
+std::vector<std::string> ServeArgs(int domain, const std::string& profiles, const std::string& dataset,
+                                   const std::string& out) {
+  return {"serve", "--domain", std::to_string(domain), "--profiles", profiles, "--calib", dataset + "/calib.txt",
+          "--out", out, "--status-every", "0", "--max-pending", "64", "--max-pending-mb", "2048", "--timeout-ms",
+          "5000", "--silence-ms", "30000"};
+}
+
+// The Cyclone listener of serve's outputs, started first: it is volatile, as ROS 2's default, so it must have
+// discovered serve before the estimates come.
+std::unique_ptr<test::Process> StartListener(int domain, int frames, const std::string& decoded_path,
+                                             const std::string& log) {
+  auto listener = std::make_unique<test::Process>(
+      DSLAM_CYCLONE_LISTENER, std::vector<std::string>{std::to_string(domain), "rt/", std::to_string(frames), "150",
+                                                       decoded_path},
+      log);
+  std::this_thread::sleep_for(4s);
+  return listener;
+}
+
 TEST(CycloneInterop, ARos2NodeOnCycloneDdsDecodesEveryEstimateObjectMotionAndStatusOverUdp) {
   constexpr int kFrames = 12;
   const std::string dataset = test::RenderedCity("cyclone_city_12", kFrames, 1);
@@ -89,21 +110,14 @@ TEST(CycloneInterop, ARos2NodeOnCycloneDdsDecodesEveryEstimateObjectMotionAndSta
       test::WithLosslessSensorStreams(kProfiles, test::TempPath("cyclone_lossless.xml")),
       test::TempPath("cyclone_lossless_udp.xml"));
   const std::string out = test::TempPath("cyclone_serve_out");
-  test::Process serve({"serve", "--domain", std::to_string(domain), "--profiles", profiles, "--calib",
-                       dataset + "/calib.txt", "--out", out, "--status-every", "0", "--max-pending", "64",
-                       "--max-pending-mb", "2048", "--timeout-ms", "5000", "--silence-ms", "30000"},
-                      test::TempPath("cyclone_serve.log"));
+  test::Process serve(ServeArgs(domain, profiles, dataset, out), test::TempPath("cyclone_serve.log"));
   const std::string decoded_path = test::TempPath("cyclone_decoded.txt");
-  test::Process listener(DSLAM_CYCLONE_LISTENER,
-                         {std::to_string(domain), "rt/", std::to_string(kFrames), "120", decoded_path},
-                         test::TempPath("cyclone_listener.log"));
-  // The listener is volatile, as ROS 2's default: it must have discovered serve before the estimates.
-  std::this_thread::sleep_for(4s);
+  const auto listener = StartListener(domain, kFrames, decoded_path, test::TempPath("cyclone_listener.log"));
   test::Process publish({"publish", "--domain", std::to_string(domain), "--profiles", profiles, "--dataset", dataset,
                          "--rate", "5", "--wait", "60"},
                         test::TempPath("cyclone_publish.log"));
   ASSERT_EQ(publish.wait(120s), 0) << test::ReadFile(test::TempPath("cyclone_publish.log"));
-  EXPECT_EQ(listener.wait(150s), 0) << test::ReadFile(test::TempPath("cyclone_listener.log"));
+  EXPECT_EQ(listener->wait(150s), 0) << test::ReadFile(test::TempPath("cyclone_listener.log"));
   serve.signal(SIGTERM);
   ASSERT_EQ(serve.wait(60s), 0) << test::ReadFile(test::TempPath("cyclone_serve.log"));
 
@@ -231,20 +245,14 @@ TEST(CycloneInterop, ACameraDriverOnCycloneDdsFeedsServeAndEveryFrameIsEstimated
   const int domain = test::DomainFor(test::DdsTestSlot::kCycloneCameraDriver);
   const std::string profiles = test::WithoutSharedMemory(kProfiles, test::TempPath("cyclone_driver_udp.xml"));
   const std::string frames = DriverFrames(dataset, test::TempPath("cyclone_driver_frames"));
-  test::Process serve({"serve", "--domain", std::to_string(domain), "--profiles", profiles, "--calib",
-                       dataset + "/calib.txt", "--out", test::TempPath("cyclone_driver_out"), "--status-every", "0",
-                       "--max-pending", "64", "--max-pending-mb", "2048", "--timeout-ms", "5000", "--silence-ms",
-                       "30000"},
+  test::Process serve(ServeArgs(domain, profiles, dataset, test::TempPath("cyclone_driver_out")),
                       test::TempPath("cyclone_driver_serve.log"));
   const std::string decoded_path = test::TempPath("cyclone_driver_decoded.txt");
-  test::Process listener(DSLAM_CYCLONE_LISTENER,
-                         {std::to_string(domain), "rt/", std::to_string(kFrames), "150", decoded_path},
-                         test::TempPath("cyclone_driver_listener.log"));
-  std::this_thread::sleep_for(4s);  // the listener is volatile: it must know serve before the estimates
+  const auto listener = StartListener(domain, kFrames, decoded_path, test::TempPath("cyclone_driver_listener.log"));
   test::Process driver(DSLAM_CYCLONE_CAMERA_DRIVER, {std::to_string(domain), "rt/", frames, "2"},
                        test::TempPath("cyclone_driver.log"));
   ASSERT_EQ(driver.wait(120s), 0) << test::ReadFile(test::TempPath("cyclone_driver.log"));
-  EXPECT_EQ(listener.wait(150s), 0) << test::ReadFile(test::TempPath("cyclone_driver_listener.log"));
+  EXPECT_EQ(listener->wait(150s), 0) << test::ReadFile(test::TempPath("cyclone_driver_listener.log"));
   serve.signal(SIGTERM);
   ASSERT_EQ(serve.wait(60s), 0) << test::ReadFile(test::TempPath("cyclone_driver_serve.log"));
 

@@ -16,16 +16,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "dds/dds.h"
+#include "cyclone_client.h"
 #include "ros2_types.h"
 
 static dds_entity_t Reader(dds_entity_t participant, const char* prefix, const char* name,
                            const dds_topic_descriptor_t* type, const dds_qos_t* qos) {
-  char topic_name[256];
-  snprintf(topic_name, sizeof topic_name, "%sdslam/%s", prefix, name);
-  const dds_entity_t topic = dds_create_topic(participant, type, topic_name, NULL, NULL);
-  if (topic < 0) return topic;
-  return dds_create_reader(participant, topic, qos, NULL);
+  char dslam_name[128];
+  snprintf(dslam_name, sizeof dslam_name, "dslam/%s", name);
+  return ClientEndpoint(participant, prefix, dslam_name, type, qos, 0);
 }
 
 static const char* Text(const char* s) { return s && s[0] ? s : "-"; }
@@ -44,15 +42,9 @@ int main(int argc, char** argv) {
     fprintf(stderr, "cannot write %s\n", argv[5]);
     return 2;
   }
-  const dds_entity_t participant = dds_create_participant(domain, NULL, NULL);
-  if (participant < 0) {
-    fprintf(stderr, "dds_create_participant: %s\n", dds_strretcode(-participant));
-    return 2;
-  }
-  dds_qos_t* qos = dds_create_qos();  // rclcpp's default subscription QoS
-  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
-  dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
-  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 10);
+  const dds_entity_t participant = ClientParticipant(domain);
+  if (participant < 0) return 2;
+  dds_qos_t* qos = Ros2Qos(0);
   const dds_entity_t odometry = Reader(participant, prefix, "camera_odometry", &nav_msgs_msg_dds__Odometry__desc, qos);
   const dds_entity_t objects =
       Reader(participant, prefix, "object_motions", &dslam_msgs_msg_dds__ObjectMotionArray__desc, qos);
