@@ -22,6 +22,10 @@ struct ObjectMotionEstimate {
   // created), the rotation perturbed on the right; zero when unknown (batch, or reported standing).
   Mat6 covariance = Mat6::Zero();
   double speed_sigma_mps = 0.0;  // of speed_mps, from `covariance`; 0 when unknown
+
+  // The tracked points' centroid at `frame`: moved rigidly by H from frame - 1.
+  Vec3 centroidWorld() const { return H_world * centroid_prev_world; }
+  Vec3 velocityMps(double frame_rate_hz) const { return velocity_world_per_frame * frame_rate_hz; }
 };
 
 struct PointEstimate {

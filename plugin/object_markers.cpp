@@ -40,8 +40,8 @@ visualization_msgs::msg::MarkerArray ObjectMarkers(const FrameEstimate& e, doubl
   clear.action(kMarkerDeleteAll);
   array.markers().push_back(clear);
   for (const ObjectMotionEstimate& o : e.object_motions) {
-    const Vec3 centroid = o.H_world * o.centroid_prev_world;  // as in the object motion message
-    const Vec3 velocity_mps = o.velocity_world_per_frame * frame_rate_hz;
+    const Vec3 centroid = o.centroidWorld();  // as in the object motion message
+    const Vec3 velocity_mps = o.velocityMps(frame_rate_hz);
     visualization_msgs::msg::Marker sphere = Base(e, "dslam_objects", o.object_id, kMarkerSphere);
     sphere.pose().position(ToPoint(centroid));
     sphere.scale().x(1.5), sphere.scale().y(1.5), sphere.scale().z(1.5);

@@ -44,10 +44,10 @@ dslam_msgs::msg::ObjectMotionArray ToMessage(const FrameEstimate& e, double fram
     o.h_world().position().x(t.x()), o.h_world().position().y(t.y()), o.h_world().position().z(t.z());
     o.h_world().orientation().x(q.x()), o.h_world().orientation().y(q.y());
     o.h_world().orientation().z(q.z()), o.h_world().orientation().w(q.w());
-    const Vec3 v = m.velocity_world_per_frame * frame_rate_hz;
+    const Vec3 v = m.velocityMps(frame_rate_hz);
     o.velocity_mps().x(v.x()), o.velocity_mps().y(v.y()), o.velocity_mps().z(v.z());
     o.speed_mps(m.speed_mps);
-    const Vec3 centroid_world = m.H_world * m.centroid_prev_world;  // the points moved rigidly by H into k
+    const Vec3 centroid_world = m.centroidWorld();
     o.centroid_world().x(centroid_world.x()), o.centroid_world().y(centroid_world.y());
     o.centroid_world().z(centroid_world.z());
     o.is_dynamic(m.is_dynamic);

@@ -174,7 +174,7 @@ void ExpectSameEstimates(const std::vector<FrameEstimate>& reference, Listener& 
       const auto& v = objects[i].velocity_mps();
       EXPECT_LT((Vec3(v.x(), v.y(), v.z()) - e.object_motions[i].velocity_world_per_frame * 10.0).norm(), 1e-9);
       const auto& c = objects[i].centroid_world();
-      const Vec3 centroid_k = e.object_motions[i].H_world * e.object_motions[i].centroid_prev_world;
+      const Vec3 centroid_k = e.object_motions[i].centroidWorld();
       EXPECT_LT((Vec3(c.x(), c.y(), c.z()) - centroid_k).norm(), 1e-9);
       EXPECT_EQ(objects[i].is_dynamic(), e.object_motions[i].is_dynamic);
       // The motion's covariance, row-major: the reference's, and for a moving object a covariance
