@@ -8,6 +8,7 @@
 
 #include "data/kitti_tracking.h"
 #include "pipeline/config_yaml.h"
+#include "plugin/ros_distro.h"
 #include "plugin/topics.h"
 #include "plugin/udp_buffer_check.h"
 
@@ -62,6 +63,11 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
     if (options.domain_id < 0 || options.domain_id > 232) throw std::invalid_argument("--domain must be in 0..232");
     for (const std::string& name : serve.vehicles)
       if (const std::string bad = FindInvalidVehicleName(name); !bad.empty()) throw std::invalid_argument(bad);
+    if (const std::string bad = FindInvalidNodeName(options.node_name); !bad.empty())
+      throw std::invalid_argument("--node-name: " + bad);
+    serve.node_name = options.node_name;
+    RosGidWidth(options.ros_distro);  // throws for an unknown one
+    serve.ros_distro = options.ros_distro;
     serve.assembler.validate();
   } catch (const std::exception& e) {
     err << "dslam serve: error: " << e.what() << std::endl;

@@ -26,6 +26,8 @@ struct ServeCommandOptions {
   int max_pending_mb = 256;             // ... and at most this many MiB of their pixels
   double status_every_s = 5.0;          // status line period on the console (0: never)
   double max_run_s = 0.0;               // stop by itself after this long (0: only on SIGINT/SIGTERM)
+  std::string node_name = "dslam";      // ROS 2 node per vehicle, for `ros2 node list`
+  std::string ros_distro = "jazzy";     // the graph topic's GID layout
 };
 
 // Runs until SIGINT or SIGTERM (or max_run_s), then writes every vehicle's results. Exit codes: 0 done,

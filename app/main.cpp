@@ -180,6 +180,13 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   serve_cmd->add_option("--max-run", serve.max_run_s, "Stop by itself after this many seconds (0: never)")
       ->capture_default_str();
+  serve_cmd->add_option("--node-name", serve.node_name,
+                        "ROS 2 node name shown by `ros2 node list`, one per vehicle in its namespace")
+      ->capture_default_str();
+  serve_cmd->add_option("--ros-distro", serve.ros_distro,
+                        "ROS 2 distribution of the graph's GID layout: humble (24 octets; also foxy, galactic) or "
+                        "jazzy (16; also iron, kilted, lyrical, rolling)")
+      ->capture_default_str();
 
   dslam::PublishCommandOptions publish;
   CLI::App* publish_cmd = app.add_subcommand(

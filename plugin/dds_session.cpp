@@ -58,4 +58,11 @@ dds::DataWriter* DdsSession::writer(const std::string& topic_name, dds::TopicDat
   return w;
 }
 
+dds::DataWriter* DdsSession::writer(const std::string& topic_name, dds::TopicDataType* type,
+                                    const dds::DataWriterQos& qos) {
+  dds::DataWriter* w = publisher_->create_datawriter(topic(topic_name, type), qos);
+  if (!w) throw std::runtime_error("cannot create a writer of " + topic_name);
+  return w;
+}
+
 }  // namespace dslam

@@ -33,6 +33,10 @@ class DdsSession {
                                              eprosima::fastdds::dds::DataReaderListener* listener);
   eprosima::fastdds::dds::DataWriter* writer(const std::string& topic, eprosima::fastdds::dds::TopicDataType* type,
                                              const std::string& profile);
+  // A writer whose QoS a protocol fixes (ROS 2's graph topic), not a profile.
+  eprosima::fastdds::dds::DataWriter* writer(const std::string& topic, eprosima::fastdds::dds::TopicDataType* type,
+                                             const eprosima::fastdds::dds::DataWriterQos& qos);
+  const eprosima::fastrtps::rtps::GUID_t& participantGuid() const { return participant_->guid(); }
 
  private:
   eprosima::fastdds::dds::Topic* topic(const std::string& name, eprosima::fastdds::dds::TopicDataType* type);

@@ -20,6 +20,8 @@
 #include "plugin/dds_session.h"
 #include "plugin/image_message.h"
 #include "plugin/object_markers.h"
+#include "plugin/ros_distro.h"
+#include "plugin/ros_graph.h"
 #include "plugin/topics.h"
 #include "pipeline/bounded_queue.h"
 #include "pipeline/staged_pipeline.h"
@@ -112,6 +114,11 @@ class Vehicle {
       for (dds::DataReader* r : readers) r->set_listener(nullptr);  // they outlive this half-built vehicle
       throw;
     }
+    graph_node_.node_namespace = "/" + name;
+    graph_node_.node_name = options.node_name;
+    for (dds::DataReader* r : readers) graph_node_.reader_gids.push_back(ToRosGid(r->guid()));
+    for (dds::DataWriter* w : {odometry_writer_, objects_writer_, status_writer_, markers_writer_})
+      graph_node_.writer_gids.push_back(ToRosGid(w->guid()));
     intake_ = std::thread([this] { runIntake(); });
     feeder_ = std::thread([this] { runFeeder(); });
   }
@@ -145,6 +152,9 @@ class Vehicle {
     pipeline_->skipQueued();
     wake_.notify_all();
   }
+
+  // This vehicle's ROS 2 node: its namespace, name, readers and writers.
+  const RosGraphNode& graphNode() const { return graph_node_; }
 
   VehicleStatus status() const {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -382,30 +392,41 @@ class Vehicle {
   OdometryListener odometry_listener_;
   dds::DataWriter *odometry_writer_ = nullptr, *objects_writer_ = nullptr, *status_writer_ = nullptr,
                   *markers_writer_ = nullptr;
+  RosGraphNode graph_node_;
   std::thread intake_, feeder_;
 };
 
 struct ServeNode::Impl {
+  // Also when the constructor throws half-way: the vehicles finish while the writers exist, and the readers
+  // go with the session before the vehicles their listeners point to.
+  ~Impl() {
+    for (auto& [name, v] : vehicles) v->stop();
+    graph.reset();
+    session.reset();
+  }
   std::unique_ptr<DdsSession> session;
   std::map<std::string, std::unique_ptr<Vehicle>> vehicles;
+  std::unique_ptr<RosGraphAnnouncer> graph;
 };
 
 ServeNode::ServeNode(const ServeOptions& options, const RunConfig& config) : impl_(std::make_unique<Impl>()) {
   config.validate();
   for (const std::string& name : options.vehicles)
     if (const std::string bad = FindInvalidVehicleName(name); !bad.empty()) throw std::invalid_argument(bad);
+  if (const std::string bad = FindInvalidNodeName(options.node_name); !bad.empty()) throw std::invalid_argument(bad);
+  RosGidWidth(options.ros_distro);  // throws for an unknown distribution, before DDS starts
   impl_->session = std::make_unique<DdsSession>(options.domain_id, options.profiles_file);
   for (const std::string& name : options.vehicles) {
     if (impl_->vehicles.count(name)) throw std::invalid_argument("vehicle '" + name + "' given twice");
     impl_->vehicles[name] = std::make_unique<Vehicle>(*impl_->session, name, options, config);
   }
+  impl_->graph = std::make_unique<RosGraphAnnouncer>(*impl_->session, options.ros_distro);
+  std::vector<RosGraphNode> nodes;
+  for (const auto& [name, v] : impl_->vehicles) nodes.push_back(v->graphNode());
+  impl_->graph->announce(nodes);
 }
 
-ServeNode::~ServeNode() {
-  // Readers go with the session before the vehicles their listeners point to.
-  for (auto& [name, v] : impl_->vehicles) v->stop();
-  impl_->session.reset();
-}
+ServeNode::~ServeNode() = default;
 
 std::map<std::string, VehicleStatus> ServeNode::status() const {
   std::map<std::string, VehicleStatus> out;
@@ -419,6 +440,7 @@ void ServeNode::abandonBacklogs() {
 
 void ServeNode::shutdown(std::ostream& log) {
   for (auto& [name, v] : impl_->vehicles) v->stop();
+  impl_->graph.reset();
   impl_->session.reset();  // no more samples
   for (auto& [name, v] : impl_->vehicles) v->writeResults(log);
 }

@@ -35,6 +35,16 @@ inline std::string FindInvalidVehicleName(const std::string& vehicle) {
   return {};
 }
 
+// Empty when `name` is a ROS 2 node name ([A-Za-z_][A-Za-z0-9_]*), else why not.
+inline std::string FindInvalidNodeName(const std::string& name) {
+  const auto allowed = [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+  };
+  bool ok = !name.empty() && !(name[0] >= '0' && name[0] <= '9');
+  for (char c : name) ok = ok && allowed(c);
+  return ok ? std::string() : "node name '" + name + "' is not a ROS 2 node name: letters, digits and '_', not a digit first";
+}
+
 inline VehicleTopics TopicsFor(const std::string& vehicle) {
   const std::string ns = vehicle.empty() ? "rt/" : "rt/" + vehicle + "/";
   return {ns + "camera/color/image_raw",        ns + "camera/depth/image_raw", ns + "camera/instance_mask",

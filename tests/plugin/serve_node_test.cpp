@@ -78,6 +78,15 @@ TEST(ServeCommand, ExitsTwoOnBadOptionsAndFourWhenItsOutputFolderIsInUse) {
   ServeCommandOptions bad = options;
   bad.max_pending_mb = 1;
   EXPECT_EQ(RunServeCommand(bad, out, err), 2) << err.str();
+  bad = options;
+  bad.ros_distro = "melodic";  // ROS 1: no graph topic to speak of
+  EXPECT_EQ(RunServeCommand(bad, out, err), 2) << err.str();
+  EXPECT_NE(err.str().find("unknown ROS 2 distribution 'melodic'"), std::string::npos) << err.str();
+  bad = options;
+  bad.node_name = "dslam/front";  // a namespace belongs to --vehicle
+  EXPECT_EQ(RunServeCommand(bad, out, err), 2) << err.str();
+  EXPECT_NE(err.str().find("--node-name: node name 'dslam/front' is not a ROS 2 node name"), std::string::npos)
+      << err.str();
   const DirLock taken(options.out_dir + "/v");
   EXPECT_EQ(RunServeCommand(options, out, err), 4) << err.str();
   EXPECT_NE(err.str().find("is in use by another process"), std::string::npos) << err.str();

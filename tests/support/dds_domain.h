@@ -11,7 +11,8 @@ namespace dslam::test {
 // never share a domain. (Ids derived from the pid did: two concurrent tests' ids met about once in 50.)
 enum class DdsTestSlot { kLoopbackEqual = 0, kLoopbackBadSamples, kLoopbackRestart, kLoopbackTwoProcesses, kSecurity,
                          kLoopbackSigkill, kServeNodeErrors, kPublishStop, kLoopbackSecondSignal, kLoopbackSamplesLost,
-                         kCycloneListener, kCycloneCameraDriver, kCycloneImageReader, kSlots };
+                         kCycloneListener, kCycloneCameraDriver, kCycloneImageReader, kRosGraphJazzy, kRosGraphHumble,
+                         kSlots };
 static_assert(static_cast<int>(DdsTestSlot::kSlots) <= 16, "16 domain ids per build tree");
 
 // The slot's domain id: the base (0, 16, ..., 208; domain ids go up to 232) comes from the test binary's
