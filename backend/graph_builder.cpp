@@ -35,10 +35,7 @@ void GraphBuilder::addMeasurement(int frame, int point_var, const Vec3& z_camera
 
 void GraphBuilder::addFrame(const FrameMeasurement& frame, const SE3* T_world_camera_init) {
   const int k = graph_->numFrames();
-  if (frame.frame_index != k)
-    throw std::invalid_argument("frame index " + std::to_string(frame.frame_index) + " out of sequence: expected " +
-                                std::to_string(k));
-  if (const std::string bad = FindInvalidMeasurement(frame); !bad.empty()) throw std::invalid_argument(bad);
+  if (const std::string bad = FindInvalidMeasurement(frame, k); !bad.empty()) throw std::invalid_argument(bad);
 
   SE3 T_world_camera;
   if (T_world_camera_init) {

@@ -32,6 +32,13 @@ std::string FindInvalidMeasurement(const FrameMeasurement& frame) {
   return {};
 }
 
+std::string FindInvalidMeasurement(const FrameMeasurement& frame, int expected_index) {
+  if (frame.frame_index != expected_index)
+    return "frame index " + std::to_string(frame.frame_index) + " out of sequence: expected " +
+           std::to_string(expected_index);
+  return FindInvalidMeasurement(frame);
+}
+
 ObjectMotionFit SummariseMotionFit(const SE3& H, const std::vector<Vec3>& src, const std::vector<Vec3>& dst,
                                    const std::vector<bool>& inlier) {
   ObjectMotionFit fit;

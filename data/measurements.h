@@ -74,6 +74,8 @@ namespace dslam {
 // Empty when the frame is usable; otherwise a message naming the first bad value
 // (non-finite point or odometry, non-positive odometry sigma, duplicate object id).
 std::string FindInvalidMeasurement(const FrameMeasurement& frame);
+// The same, and the frame must be the `expected_index`-th of its sequence (the back-end's check).
+std::string FindInvalidMeasurement(const FrameMeasurement& frame, int expected_index);
 
 // The fit of motion H to the pairs (src[i] at k-1, dst[i] at k, camera k-1 coordinates) summarised over
 // its inliers: centroid at k-1, sum of squared residuals, count.

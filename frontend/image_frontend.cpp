@@ -72,7 +72,59 @@ ImageFrontend::ImageFrontend(const FrontendParams& params, const PinholeCamera& 
     throw std::invalid_argument("front-end camera needs a positive size and focal lengths");
 }
 
+struct ImageFrontend::Snapshot {
+  std::vector<Track> tracks;
+  std::map<int, cv::Rect> prev_label_boxes;
+  std::optional<SE3> last_camera_motion;
+  std::map<int, ObjectMotionMemory> last_object_motion;
+  cv::Mat prev_gray, prev_flow_to_next;  // headers: process() replaces them, never writes into them
+  std::optional<int> prev_frame_index;
+  int64_t next_track_id = 1;
+  ObjectAssociator associator;
+  FrontendFrameStats stats;
+};
+
+ImageFrontend::Snapshot ImageFrontend::save() const {
+  return {tracks_,           prev_label_boxes_,   last_camera_motion_, last_object_motion_, prev_gray_,
+          prev_flow_to_next_, prev_frame_index_, next_track_id_,       associator_,         stats_};
+}
+
+void ImageFrontend::restore(Snapshot&& s) {
+  tracks_ = std::move(s.tracks);
+  prev_label_boxes_ = std::move(s.prev_label_boxes);
+  last_camera_motion_ = s.last_camera_motion;
+  last_object_motion_ = std::move(s.last_object_motion);
+  prev_gray_ = s.prev_gray;
+  prev_flow_to_next_ = s.prev_flow_to_next;
+  prev_frame_index_ = s.prev_frame_index;
+  next_track_id_ = s.next_track_id;
+  associator_ = s.associator;
+  stats_ = std::move(s.stats);
+}
+
+ImageFrontend::~ImageFrontend() = default;
+
 FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
+  auto before = std::make_unique<Snapshot>(save());
+  try {
+    FrameMeasurement m = processUncommitted(frame);
+    if (const std::string bad = FindInvalidMeasurement(m); !bad.empty())
+      throw std::invalid_argument("the front-end's measurement is not valid: " + bad);
+    before_last_ = std::move(before);
+    return m;
+  } catch (...) {
+    restore(std::move(*before));
+    throw;
+  }
+}
+
+void ImageFrontend::undoLast() {
+  if (!before_last_) throw std::logic_error("ImageFrontend::undoLast: no frame to undo");
+  restore(std::move(*before_last_));
+  before_last_.reset();
+}
+
+FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
   if (const std::string bad = FindInvalidImageFrame(frame); !bad.empty()) throw std::invalid_argument(bad);
   if (frame.image.cols != camera_.width || frame.image.rows != camera_.height)
     throw std::invalid_argument("frame " + std::to_string(frame.frame_index) + ": image is " +

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -52,10 +53,16 @@ struct FrontendFrameStats {
 class ImageFrontend {
  public:
   ImageFrontend(const FrontendParams& params, const PinholeCamera& camera);
+  ~ImageFrontend();
 
-  // Throws std::invalid_argument naming what is wrong with the frame (sizes, types, order); the
-  // front-end's state is then unchanged and the next good frame continues from the last good one.
+  // Throws std::invalid_argument naming what is wrong with the frame (sizes, types, order), or with the
+  // measurement it would give (the back-end's own check, data/measurements.h: what the front-end commits
+  // the back-end takes); the front-end's state is then unchanged, whatever was thrown, and the next good
+  // frame continues from the last good one.
   FrameMeasurement process(const ImageFrame& frame);
+  // Takes back the last process() (once): for a caller whose next stage refused its measurement, so that
+  // both stages commit a frame together or not at all. Throws std::logic_error when there is nothing to undo.
+  void undoLast();
 
   const FrontendFrameStats& lastStats() const { return stats_; }
 
@@ -114,20 +121,28 @@ class ImageFrontend {
   PixelPrediction predictPixels(const std::optional<OdometryMeasurement>& odometry,
                                 const std::map<int, cv::Rect>& label_boxes) const;
 
-  std::vector<Track> tracks_;
-  std::map<int, cv::Rect> prev_label_boxes_;  // mask label -> bounding box in the previous frame
-  std::optional<SE3> last_camera_motion_;       // T_prev_curr of the last transition
+  FrameMeasurement processUncommitted(const ImageFrame& frame);
+
+  // Everything process() changes, to restore it.
   struct ObjectMotionMemory {
     SE3 motion;             // between consecutive frames, in the earlier camera frame
     int frame_index = 0;    // when it was last fitted
     int confirmations = 1;  // consecutive fits that agreed with each other
     int rejections = 0;     // consecutive fits it rejected
   };
+  struct Snapshot;
+  Snapshot save() const;
+  void restore(Snapshot&& snapshot);
+
+  std::vector<Track> tracks_;
+  std::map<int, cv::Rect> prev_label_boxes_;  // mask label -> bounding box in the previous frame
+  std::optional<SE3> last_camera_motion_;       // T_prev_curr of the last transition
   std::map<int, ObjectMotionMemory> last_object_motion_;  // kept a few frames across occlusions
   cv::Mat prev_gray_, prev_flow_to_next_;
   std::optional<int> prev_frame_index_;
   int64_t next_track_id_ = 1;
   FrontendFrameStats stats_;
+  std::unique_ptr<Snapshot> before_last_;  // the state before the last process(), for undoLast()
 };
 
 }  // namespace dslam

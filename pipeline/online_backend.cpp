@@ -1,6 +1,7 @@
 #include "pipeline/online_backend.h"
 
 #include <chrono>
+#include <stdexcept>
 
 namespace dslam {
 namespace {
@@ -31,6 +32,9 @@ OnlineBackend::OnlineBackend(const RunConfig& config, double frame_rate_hz, Stre
 
 FrameEstimate OnlineBackend::add(FrameMeasurement* frame) {
   const auto start = std::chrono::steady_clock::now();
+  // The estimator's own checks, before the classifier and the files see the frame.
+  if (const std::string bad = FindInvalidMeasurement(*frame, frames_added_); !bad.empty())
+    throw std::invalid_argument(bad);
   if (previous_) classifier_.label(*previous_, frame);
   if (stream_) stream_->frameStamp(frames_added_, frame->t_ns);
   estimator_.addFrame(*frame);

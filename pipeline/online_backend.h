@@ -26,7 +26,8 @@ class OnlineBackend {
   OnlineBackend& operator=(const OnlineBackend&) = delete;
 
   // Labels `frame` in place (its objects' static/dynamic decision) and adds it; returns the newest
-  // frame's estimate, stamped with the frame's stamp.
+  // frame's estimate, stamped with the frame's stamp. A frame it refuses (out of sequence, not a valid
+  // measurement) throws std::invalid_argument before anything changed.
   FrameEstimate add(FrameMeasurement* frame);
 
   int framesAdded() const { return frames_added_; }

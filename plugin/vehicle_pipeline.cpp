@@ -16,7 +16,12 @@ FrameEstimate VehiclePipeline::process(const ImageFrame& frame_in) {
   ImageFrame frame = frame_in;
   frame.frame_index = framesProcessed();
   FrameMeasurement m = frontend_->process(frame);
-  return backend_.add(&m);
+  try {
+    return backend_.add(&m);
+  } catch (...) {
+    frontend_->undoLast();  // both stages take the frame, or neither
+    throw;
+  }
 }
 
 }  // namespace dslam

@@ -18,7 +18,8 @@ class VehiclePipeline {
   // The camera's intrinsics; its size is taken from the first frame when width/height are 0.
   VehiclePipeline(const RunConfig& config, const PinholeCamera& camera, double frame_rate_hz);
 
-  // Throws std::invalid_argument for a frame the front-end rejects; the pipeline is then unchanged.
+  // Throws std::invalid_argument for a frame the front-end or the back-end refuses; the pipeline is then
+  // unchanged (the front-end takes its step back when the back-end refuses).
   FrameEstimate process(const ImageFrame& frame);
 
   int framesProcessed() const { return backend_.framesAdded(); }

@@ -180,6 +180,48 @@ TEST(ImageFrontend, RejectsBadFramesAndCarriesOnFromTheLastGoodOne) {
   }
 }
 
+void ExpectSameMeasurement(const FrameMeasurement& a, const FrameMeasurement& b) {
+  EXPECT_EQ(a.frame_index, b.frame_index);
+  ASSERT_EQ(a.static_points.size(), b.static_points.size()) << a.frame_index;
+  for (size_t i = 0; i < a.static_points.size(); ++i) {
+    EXPECT_EQ(a.static_points[i].track_id, b.static_points[i].track_id);
+    EXPECT_EQ(a.static_points[i].p_camera, b.static_points[i].p_camera);
+  }
+  ASSERT_EQ(a.objects.size(), b.objects.size()) << a.frame_index;
+  for (size_t o = 0; o < a.objects.size(); ++o) {
+    EXPECT_EQ(a.objects[o].object_id, b.objects[o].object_id);
+    ASSERT_EQ(a.objects[o].points.size(), b.objects[o].points.size()) << a.frame_index;
+    for (size_t i = 0; i < a.objects[o].points.size(); ++i) {
+      EXPECT_EQ(a.objects[o].points[i].track_id, b.objects[o].points[i].track_id);
+      EXPECT_EQ(a.objects[o].points[i].p_camera, b.objects[o].points[i].p_camera);
+    }
+    ASSERT_EQ(a.objects[o].motion_fit.has_value(), b.objects[o].motion_fit.has_value());
+    if (a.objects[o].motion_fit)
+      EXPECT_EQ(a.objects[o].motion_fit->H_camera_prev.translation(), b.objects[o].motion_fit->H_camera_prev.translation());
+  }
+  ASSERT_EQ(a.camera_motion_guess.has_value(), b.camera_motion_guess.has_value());
+  if (a.camera_motion_guess) EXPECT_EQ(a.camera_motion_guess->translation(), b.camera_motion_guess->translation());
+}
+
+// For a pipeline whose back-end refuses a frame the front-end took (VehiclePipeline): after undoLast() the
+// front-end is as it was before that frame, down to its track ids, object ids and object-motion memory.
+TEST(ImageFrontend, UndoLastTakesAFrameBackAsIfItNeverCame) {
+  ImageFrontend straight(Params(), Camera()), undoing(Params(), Camera());
+  EXPECT_THROW(undoing.undoLast(), std::logic_error);  // nothing yet
+  for (int k = 0; k < 8; ++k) {
+    if (k == 4) {
+      // A frame whose box the segmenter labels anew: a new object id, new tracks, a new motion memory.
+      undoing.process(MakeFrame(k, 9));
+      undoing.undoLast();
+      EXPECT_THROW(undoing.undoLast(), std::logic_error);  // once
+    }
+    const FrameMeasurement a = straight.process(MakeFrame(k));
+    const FrameMeasurement b = undoing.process(MakeFrame(k));
+    ExpectSameMeasurement(a, b);
+    EXPECT_EQ(straight.lastStats().static_tracked, undoing.lastStats().static_tracked);
+  }
+}
+
 TEST(ImageFrontend, IgnoresMasksBelowTheAreaThresholdAndObjectsBeyondRange) {
   FrontendParams params = Params();
   params.min_mask_area_pct = 20.0;  // the box covers 6300 / 64000 px, under 20 %
