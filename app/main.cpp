@@ -9,6 +9,7 @@
 #include "app/render_scene_command.h"
 #include "app/run_command.h"
 #include "app/sim_command.h"
+#include "app/study_command.h"
 #include "simulation/scenarios.h"
 
 namespace {
@@ -106,6 +107,10 @@ int main(int argc, char** argv) {
                          "Depth noise sigma added per square metre of depth (0 to 1)")
       ->capture_default_str();
   render_cmd->add_option("--seed", render.seed, "Seed of the noise")->capture_default_str();
+  render_cmd->add_flag("--stereo", render.stereo,
+                       "Also render the right camera (image_1/, KITTI's 0.54 m baseline, P3 in calib.txt)");
+  render_cmd->add_flag("--exact-flow", render.exact_flow,
+                       "Also write the exact forward flow (flow/NNNNNN.flo, ~3.7 MB a 1242x375 frame)");
   render_cmd->add_option("--out", render.out_dir, "Output directory")->capture_default_str();
   render_cmd->add_flag("--quiet", render.quiet, "Print only errors and the summary");
 
@@ -117,8 +122,10 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::ExistingDirectory);
   run_cmd->add_option("--seq", run.sequence, "KITTI tracking layout: sequence number, e.g. 0000");
-  run_cmd->add_option("--flow", run.flow, "Optical flow: lk, dis or precomputed (default: frontend.flow_method, lk)")
-      ->check(CLI::IsMember({"lk", "dis", "precomputed"}));
+  run_cmd->add_option("--flow", run.flow,
+                      "Point tracking: optical flow lk, dis or precomputed, or orb descriptor matching "
+                      "(default: frontend.flow_method, lk)")
+      ->check(CLI::IsMember({"lk", "dis", "precomputed", "orb"}));
   run_cmd->add_option("--frames", run.frames, "Use only the first N frames (0: all)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
@@ -139,6 +146,24 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--out", run.out_dir, "Output directory")->capture_default_str();
   run_cmd->add_flag("--quiet", run.quiet, "Print only errors");
   AddFigureFlags(run_cmd, &run);
+
+  dslam::StudyCommandOptions study;
+  CLI::App* study_cmd = app.add_subcommand(
+      "study", "The paper's front-end study on a rendered scene (render-scene --stereo --exact-flow): depth, "
+               "segmentation and tracking made realistic one at a time; writes study.csv, tracking.csv and figures");
+  study_cmd->add_option("--dataset", study.dataset_dir, "Rendered scene with the stereo pair and the exact flow")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  study_cmd->add_option("--frames", study.frames, "Use only the first N frames (0: all)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  study_cmd->add_option("--config", study.config_path, "YAML run configuration (see config/default.yaml)")
+      ->check(CLI::ExistingFile);
+  study_cmd->add_option("--seed", study.seed, "Seed of the depth noise and of the degraded segmenter")
+      ->capture_default_str();
+  study_cmd->add_option("--out", study.out_dir, "Output directory")->capture_default_str();
+  study_cmd->add_flag("--quiet", study.quiet, "Print only errors and the summary");
+  AddFigureFlags(study_cmd, &study);
 
   dslam::ServeCommandOptions serve;
   CLI::App* serve_cmd = app.add_subcommand(
@@ -236,6 +261,7 @@ int main(int argc, char** argv) {
   if (serve_cmd->parsed()) return dslam::RunServeCommand(serve, std::cout, std::cerr);
   if (publish_cmd->parsed()) return dslam::RunPublishCommand(publish, std::cout, std::cerr);
   if (run_cmd->parsed()) return dslam::RunRunCommand(run, std::cout, std::cerr);
+  if (study_cmd->parsed()) return dslam::RunStudyCommand(study, std::cout, std::cerr);
   if (render_cmd->parsed()) return dslam::RunRenderSceneCommand(render, std::cout, std::cerr);
   if (sim_cmd->parsed()) return dslam::RunSimCommand(sim, std::cout, std::cerr);
   if (replay_cmd->parsed()) return dslam::RunKittiReplayCommand(replay, std::cout, std::cerr);

@@ -3,9 +3,11 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <optional>
 
 #include "data/kitti_dataset.h"
 #include "data/odometry_file.h"
+#include "render/exact_flow.h"
 #include "render/headless_display.h"
 #include "render/rgbd_renderer.h"
 #include "render/sensor_noise.h"
@@ -62,7 +64,9 @@ int RunRenderSceneCommand(const RenderSceneOptions& options, std::ostream& out, 
       return 3;
     }
     RgbdRenderer renderer(camera, scene.static_quads);
-    VdoWriter writer(options.out_dir, scene, camera);
+    VdoWriter writer(options.out_dir, scene, camera, options.stereo ? kKittiStereoBaselineM : 0.0);
+    const SE3 T_left_right(Eigen::Quaterniond::Identity(), Vec3(kKittiStereoBaselineM, 0.0, 0.0));
+    std::optional<RgbdFrame> previous;  // for the exact flow from it to the frame just rendered
     const int frames = options.frames > 0 ? std::min<int>(options.frames, scene.T_world_camera.size())
                                           : static_cast<int>(scene.T_world_camera.size());
     const auto start = std::chrono::steady_clock::now();
@@ -74,8 +78,16 @@ int RunRenderSceneCommand(const RenderSceneOptions& options, std::ostream& out, 
         boxes.push_back({o.object_id, pose->second, o.l, o.w, o.h, o.texture_seed});
       }
       RgbdFrame frame = renderer.render(scene.T_world_camera[k], boxes);
-      if (noise.any()) AddSensorNoise(noise, options.seed * 1000003ULL + static_cast<uint64_t>(k), &frame);
-      writer.write(k, frame);
+      std::optional<RgbdFrame> right;
+      if (options.stereo) right = renderer.render(scene.T_world_camera[k] * T_left_right, boxes);
+      // The flow is exact: it comes from the noiseless depth, before the noise is added.
+      if (options.exact_flow && previous) writer.writeFlow(k - 1, ExactFlow(scene, k - 1, *previous, frame, camera));
+      if (options.exact_flow) previous = frame;
+      if (noise.any()) {
+        AddSensorNoise(noise, options.seed * 1000003ULL + static_cast<uint64_t>(k), &frame);
+        if (right) AddSensorNoise(noise, options.seed * 1000003ULL + 500009ULL + static_cast<uint64_t>(k), &*right);
+      }
+      writer.write(k, frame, right ? &*right : nullptr);
       if (!options.quiet && ((k + 1) % std::max(1, frames / 10) == 0 || k + 1 == frames)) {
         const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         out << "  frame " << k + 1 << "/" << frames << ", " << (k + 1) / s << " frames/s" << std::endl;

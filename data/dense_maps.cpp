@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <filesystem>
 #include <stdexcept>
 
 #include "data/text_parsing.h"
@@ -39,6 +40,26 @@ FlowField ReadFlo(const std::string& path) {
     throw std::runtime_error(path + ": truncated: expected " + std::to_string(flow.uv.size() * sizeof(float)) +
                              " bytes of flow after the header");
   return flow;
+}
+
+void WriteFlo(const std::string& path, const FlowField& flow) {
+  if (flow.width <= 0 || flow.height <= 0 || flow.uv.size() != static_cast<size_t>(flow.width) * flow.height * 2)
+    throw std::invalid_argument(path + ": flow field of " + std::to_string(flow.uv.size()) + " values is not " +
+                                std::to_string(flow.width) + "x" + std::to_string(flow.height) + "x2");
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    const float magic = 202021.25f;
+    const int32_t w = flow.width, h = flow.height;
+    out.write(reinterpret_cast<const char*>(&magic), 4);
+    out.write(reinterpret_cast<const char*>(&w), 4);
+    out.write(reinterpret_cast<const char*>(&h), 4);
+    out.write(reinterpret_cast<const char*>(flow.uv.data()), static_cast<std::streamsize>(flow.uv.size() * sizeof(float)));
+    if (!out) throw std::runtime_error("cannot write " + tmp);
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw std::runtime_error("cannot rename " + tmp + " to " + path + ": " + ec.message());
 }
 
 InstanceMask ReadSemanticTxt(const std::string& path) {

@@ -78,8 +78,9 @@ cv::Mat ReadImage(const std::string& path, int flags) {
 }  // namespace
 
 void ImageDatasetOptions::validate() const {
-  if (depth_encoding != "depth_mm" && depth_encoding != "disparity_x256")
-    throw std::invalid_argument("unknown depth encoding '" + depth_encoding + "' (expected depth_mm or disparity_x256)");
+  if (depth_encoding != "depth_mm" && depth_encoding != "disparity_x256" && depth_encoding != "stereo")
+    throw std::invalid_argument("unknown depth encoding '" + depth_encoding +
+                                "' (expected depth_mm, disparity_x256 or stereo)");
   if (lidar_fill_radius_px < 0 || lidar_fill_radius_px > 50)
     throw std::invalid_argument("dataset lidar_fill_radius_px must be in 0..50");
   if (!(frame_rate_hz > 0.0)) throw std::invalid_argument("frame rate must be positive");
@@ -103,9 +104,18 @@ ImageDataset::ImageDataset(const std::string& dir, const ImageDatasetOptions& op
     if (images_.empty()) throw std::runtime_error("no .png images in " + (root / "image_0").string());
     RequireConsecutiveFrameNumbers(images_);
     read_calib(root / "calib.txt");
-    if (!fs::is_directory(root / "depth")) throw std::runtime_error("missing depth folder " + (root / "depth").string());
-    depths_ = Matching(images_, root / "depth", ".png", images_.size());
-    depth_kind_ = options_.depth_encoding == "depth_mm" ? DepthKind::kPngDepthMm : DepthKind::kPngDisparity;
+    if (options_.depth_encoding == "stereo") {
+      // Depth from the rectified pair by semi-global matching, as on real KITTI (render-scene --stereo).
+      if (!fs::is_directory(root / "image_1"))
+        throw std::runtime_error("missing right images " + (root / "image_1").string() +
+                                 " (dataset.depth_encoding: stereo; render-scene --stereo writes them)");
+      rights_ = Matching(images_, root / "image_1", ".png", images_.size());
+      depth_kind_ = DepthKind::kStereo;
+    } else {
+      if (!fs::is_directory(root / "depth")) throw std::runtime_error("missing depth folder " + (root / "depth").string());
+      depths_ = Matching(images_, root / "depth", ".png", images_.size());
+      depth_kind_ = options_.depth_encoding == "depth_mm" ? DepthKind::kPngDepthMm : DepthKind::kPngDisparity;
+    }
     if (fs::is_directory(root / "mask")) {
       masks_ = Matching(images_, root / "mask", ".png", images_.size());
       mask_kind_ = MaskKind::kPng16;
@@ -294,6 +304,7 @@ ImageFrame ImageDataset::read(int k) const {
     std::copy(f.uv.begin(), f.uv.end(), frame.flow_to_next.ptr<float>(0));
   }
   frame.odometry = odometryAt(k);
+  if (transform_) transform_(frame);
   return frame;
 }
 

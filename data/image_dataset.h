@@ -13,6 +13,7 @@
 //    (stereo depth), calib.txt. No masks, no ground truth.
 // This reader links OpenCV (imgcodecs); it lives beside the other readers but in the vision library.
 
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -27,7 +28,7 @@ namespace dslam {
 
 struct ImageDatasetOptions {
   std::string sequence;                   // KITTI tracking layout: which SSSS (optional when there is one)
-  std::string depth_encoding = "depth_mm";  // of depth/ PNGs: depth_mm | disparity_x256
+  std::string depth_encoding = "depth_mm";  // of depth/ PNGs: depth_mm | disparity_x256; or stereo (image_1/, SGBM)
   int lidar_fill_radius_px = 2;           // sparse LiDAR depth spread to neighbours within this radius
   bool read_flow = true;                  // read flow/*.flo when the folder has it
   StereoParams stereo;
@@ -60,6 +61,12 @@ class ImageDataset {
   // Ground truth when the folder has it (camera poses at least).
   const std::optional<KittiGroundTruthSequence>& groundTruth() const { return ground_truth_; }
 
+  // For studies of imperfect inputs (dslam study): `transform` is applied to every frame read, after
+  // decoding and checking; and the ground truth can be replaced to follow what it changed (e.g. the object
+  // ids a degraded segmenter gives).
+  void setFrameTransform(std::function<void(ImageFrame&)> transform) { transform_ = std::move(transform); }
+  void setGroundTruth(KittiGroundTruthSequence gt) { ground_truth_ = std::move(gt); }
+
  private:
   enum class MaskKind { kNone, kPng16, kSemanticText, kLabelBoxes };
   enum class DepthKind { kPngDepthMm, kPngDisparity, kStereo, kLidar };
@@ -84,6 +91,7 @@ class ImageDataset {
   };
   std::map<int, std::vector<LabelShape>> label_shapes_;  // frame -> labelled objects, farthest first
   std::optional<KittiGroundTruthSequence> ground_truth_;
+  std::function<void(ImageFrame&)> transform_;
 };
 
 }  // namespace dslam

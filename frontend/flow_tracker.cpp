@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
 namespace dslam {
@@ -12,6 +14,7 @@ std::string ToString(FlowMethod method) {
     case FlowMethod::kLucasKanade: return "lk";
     case FlowMethod::kDis: return "dis";
     case FlowMethod::kPrecomputed: return "precomputed";
+    case FlowMethod::kOrb: return "orb";
   }
   return "?";
 }
@@ -20,7 +23,8 @@ FlowMethod ParseFlowMethod(const std::string& name) {
   if (name == "lk") return FlowMethod::kLucasKanade;
   if (name == "dis") return FlowMethod::kDis;
   if (name == "precomputed") return FlowMethod::kPrecomputed;
-  throw std::invalid_argument("unknown flow method '" + name + "' (expected lk, dis or precomputed)");
+  if (name == "orb") return FlowMethod::kOrb;
+  throw std::invalid_argument("unknown flow method '" + name + "' (expected lk, dis, precomputed or orb)");
 }
 
 void FlowParams::validate() const {
@@ -33,9 +37,16 @@ struct FlowTracker::Dis {
   cv::Ptr<cv::DISOpticalFlow> flow = cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_FAST);
 };
 
+struct FlowTracker::Orb {
+  // Upright descriptors (every angle 0): a road scene barely rotates in the image between frames.
+  cv::Ptr<cv::ORB> orb = cv::ORB::create(500, 1.2f, 1, 31, 0, 2, cv::ORB::HARRIS_SCORE, 31);
+  cv::BFMatcher matcher{cv::NORM_HAMMING};
+};
+
 FlowTracker::FlowTracker(const FlowParams& params) : params_(params) {
   params_.validate();
   if (params_.method == FlowMethod::kDis) dis_ = std::make_unique<Dis>();
+  if (params_.method == FlowMethod::kOrb) orb_ = std::make_unique<Orb>();
 }
 
 FlowTracker::~FlowTracker() = default;
@@ -71,6 +82,7 @@ FlowResult FlowTracker::track(const cv::Mat& prev_gray, const cv::Mat& curr_gray
   result.fb_error_px.assign(prev_points.size(), 0.0f);
   dense_forward_.release();
 
+  if (params_.method == FlowMethod::kOrb) return trackByDescriptors(prev_gray, curr_gray, prev_points);
   if (params_.method == FlowMethod::kLucasKanade) {
     if (prev_points.empty()) return result;
     const cv::Size window(params_.lk_window_px, params_.lk_window_px);
@@ -122,6 +134,41 @@ FlowResult FlowTracker::track(const cv::Mat& prev_gray, const cv::Mat& curr_gray
       result.fb_error_px[i] = static_cast<float>(cv::norm(back - prev_points[i]));
       if (result.fb_error_px[i] > params_.fb_threshold_px) continue;
     }
+    result.ok[i] = 1;
+  }
+  return result;
+}
+
+FlowResult FlowTracker::trackByDescriptors(const cv::Mat& prev_gray, const cv::Mat& curr_gray,
+                                           const std::vector<cv::Point2f>& prev_points) {
+  FlowResult result;
+  result.points = prev_points;
+  result.ok.assign(prev_points.size(), 0);
+  result.fb_error_px.assign(prev_points.size(), 0.0f);
+  std::vector<cv::KeyPoint> prev_keys;
+  for (size_t i = 0; i < prev_points.size(); ++i)
+    if (Inside(prev_points[i], prev_gray.size()))
+      prev_keys.emplace_back(prev_points[i], 31.0f, 0.0f, 0.0f, 0, static_cast<int>(i));
+  // Candidates: Shi-Tomasi corners, the detector that made the points (a FAST corner sits a pixel or two off).
+  std::vector<cv::Point2f> candidates;
+  cv::goodFeaturesToTrack(curr_gray, candidates, 4 * std::max<int>(500, static_cast<int>(prev_points.size())), 0.005, 3);
+  std::vector<cv::KeyPoint> curr_keys;
+  for (const cv::Point2f& c : candidates) curr_keys.emplace_back(c, 31.0f, 0.0f, 0.0f, 0);
+  cv::Mat prev_desc, curr_desc;
+  // compute() drops the points too near the border to describe; class_id keeps each one's index.
+  orb_->orb->compute(prev_gray, prev_keys, prev_desc);
+  orb_->orb->compute(curr_gray, curr_keys, curr_desc);
+  if (prev_keys.empty() || curr_keys.size() < 2) return result;
+  std::vector<std::vector<cv::DMatch>> forward, backward;
+  orb_->matcher.knnMatch(prev_desc, curr_desc, forward, 2);
+  orb_->matcher.knnMatch(curr_desc, prev_desc, backward, 1);
+  constexpr float kRatio = 0.8f;
+  for (const auto& m : forward) {
+    if (m.size() < 2 || m[0].distance >= kRatio * m[1].distance) continue;
+    const auto& back = backward[static_cast<size_t>(m[0].trainIdx)];
+    if (back.empty() || back[0].trainIdx != m[0].queryIdx) continue;  // not mutual
+    const size_t i = static_cast<size_t>(prev_keys[static_cast<size_t>(m[0].queryIdx)].class_id);
+    result.points[i] = curr_keys[static_cast<size_t>(m[0].trainIdx)].pt;
     result.ok[i] = 1;
   }
   return result;

@@ -5,7 +5,10 @@
 //  - sparse pyramidal Lucas-Kanade (OpenCV), forward and backward on the points only;
 //  - dense DIS (OpenCV), forward and backward fields sampled at the points;
 //  - a precomputed dense forward field (e.g. a dataset's .flo files); with no backward field the check
-//    is skipped and every point that stays inside the image is kept.
+//    is skipped and every point that stays inside the image is kept;
+//  - descriptor matching (the paper's alternative to flow): upright ORB descriptors at the points are
+//    matched over the whole image to Shi-Tomasi corners of the current image, kept when the best match is
+//    clearly better than the second (ratio 0.8) and mutual; the points land on whole pixels.
 
 #include <memory>
 #include <string>
@@ -15,9 +18,9 @@
 
 namespace dslam {
 
-enum class FlowMethod { kLucasKanade, kDis, kPrecomputed };
+enum class FlowMethod { kLucasKanade, kDis, kPrecomputed, kOrb };
 std::string ToString(FlowMethod method);
-FlowMethod ParseFlowMethod(const std::string& name);  // "lk", "dis", "precomputed"; throws otherwise
+FlowMethod ParseFlowMethod(const std::string& name);  // "lk", "dis", "precomputed", "orb"; throws otherwise
 
 struct FlowParams {
   FlowMethod method = FlowMethod::kLucasKanade;
@@ -55,6 +58,10 @@ class FlowTracker {
   cv::Mat dense_forward_;
   struct Dis;
   std::unique_ptr<Dis> dis_;
+  struct Orb;
+  std::unique_ptr<Orb> orb_;
+  FlowResult trackByDescriptors(const cv::Mat& prev_gray, const cv::Mat& curr_gray,
+                                const std::vector<cv::Point2f>& prev_points);
 };
 
 }  // namespace dslam

@@ -413,7 +413,7 @@ ImageFrontend::PixelPrediction ImageFrontend::predictPixels(const std::optional<
     prediction.px.push_back(inside ? cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y())) : t.px);
     prediction.leaves_view.push_back(0);
   }
-  if (params_.flow.method != FlowMethod::kLucasKanade) {  // the dense methods need no start
+  if (params_.flow.method != FlowMethod::kLucasKanade) {  // the dense methods and matching need no start
     prediction.px.clear();
     prediction.from_box.clear();
     prediction.px_if_still.clear();

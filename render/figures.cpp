@@ -10,6 +10,7 @@
 #include <vtkChartXY.h>
 #include <vtkContextScene.h>
 #include <vtkContextView.h>
+#include <vtkDoubleArray.h>
 #include <vtkFloatArray.h>
 #include <vtkNew.h>
 #include <vtkPNGWriter.h>
@@ -24,6 +25,7 @@
 #include <vtkProperty.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
+#include <vtkStringArray.h>
 #include <vtkTable.h>
 #include <vtkTextActor.h>
 #include <vtkTextProperty.h>
@@ -422,6 +424,59 @@ void DrawMapFigure(const RunResults& r, const std::string& png, const FigureOpti
   window->SetSize(Px(o.width, o), Px(o.height, o));
   window->AddRenderer(renderer);
   SavePng(window, png);
+}
+
+void DrawBarFigure(const std::string& title, const std::vector<std::string>& categories,
+                   const std::vector<BarPanel>& panels, const std::string& png, const FigureOptions& o) {
+  if (categories.empty() || panels.empty()) throw std::invalid_argument("a bar figure needs categories and panels");
+  vtkNew<vtkContextView> view;
+  SetupView(view, o);
+  vtkNew<vtkChartMatrix> matrix;
+  view->GetScene()->AddItem(matrix);
+  const int n = static_cast<int>(panels.size());
+  matrix->SetSize(vtkVector2i(1, n));
+  matrix->SetGutter(vtkVector2f(Px(40, o), Px(80, o)));
+  matrix->SetBorders(Px(90, o), Px(80, o), Px(30, o), Px(80, o));
+  vtkNew<vtkDoubleArray> positions;
+  vtkNew<vtkStringArray> labels;
+  for (size_t c = 0; c < categories.size(); ++c) {
+    positions->InsertNextValue(static_cast<double>(c));
+    labels->InsertNextValue(categories[c]);
+  }
+  for (int p = 0; p < n; ++p) {
+    const BarPanel& panel = panels[static_cast<size_t>(p)];
+    auto* chart = vtkChartXY::SafeDownCast(matrix->GetChart(vtkVector2i(0, n - 1 - p)));
+    StyleChart(chart, panel.title, "", panel.y_title, o, 12);
+    chart->SetShowLegend(panel.series.size() > 1);
+    chart->SetBarWidthFraction(0.8f);
+    for (size_t s = 0; s < panel.series.size(); ++s) {
+      vtkNew<vtkTable> table;
+      vtkNew<vtkFloatArray> x, y;
+      x->SetName("x");
+      y->SetName(panel.series[s].c_str());
+      table->AddColumn(x);
+      table->AddColumn(y);
+      table->SetNumberOfRows(static_cast<vtkIdType>(categories.size()));
+      for (size_t c = 0; c < categories.size(); ++c) {
+        const double v = c < panel.values.size() && s < panel.values[c].size() ? panel.values[c][s] : 0.0;
+        table->SetValue(static_cast<vtkIdType>(c), 0, static_cast<double>(c));
+        table->SetValue(static_cast<vtkIdType>(c), 1, std::isfinite(v) ? v : 0.0);
+      }
+      vtkPlot* bars = chart->AddPlot(vtkChart::BAR);
+      bars->SetInputData(table, 0, 1);
+      const auto colour = s == 0 ? kEstimateColour : ObjectColour(static_cast<int>(s) + 1);
+      bars->SetColor(colour[0], colour[1], colour[2], 255);
+      bars->SetLabel(panel.series[s]);
+    }
+    vtkAxis* x_axis = chart->GetAxis(vtkAxis::BOTTOM);
+    x_axis->SetCustomTickPositions(positions, labels);
+    x_axis->SetBehavior(vtkAxis::FIXED);
+    x_axis->SetRange(-0.6, static_cast<double>(categories.size()) - 0.4);
+    chart->GetAxis(vtkAxis::LEFT)->SetMinimum(0.0);
+    chart->GetAxis(vtkAxis::LEFT)->SetMinimumLimit(0.0);
+  }
+  AddFigureTitle(view, title, o);
+  SavePng(view->GetRenderWindow(), png);
 }
 
 }  // namespace dslam

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 #include "output/result_reader.h"
 
@@ -37,5 +38,15 @@ void DrawSpeedsFigure(const RunResults& r, const std::string& png, const FigureO
 void DrawErrorsFigure(const RunResults& r, const std::string& png, const FigureOptions& options);
 // 3D perspective render of the static map (grey), dynamic points coloured by object, camera path.
 void DrawMapFigure(const RunResults& r, const std::string& png, const FigureOptions& options);
+
+// Grouped bars, one chart per panel stacked top to bottom: per category (x) one bar per series. Missing
+// values (NaN) leave a gap. Used by the front-end study (its effects and its tracking comparison).
+struct BarPanel {
+  std::string title, y_title;
+  std::vector<std::string> series;          // legend names
+  std::vector<std::vector<double>> values;  // [category][series]
+};
+void DrawBarFigure(const std::string& title, const std::vector<std::string>& categories,
+                   const std::vector<BarPanel>& panels, const std::string& png, const FigureOptions& options);
 
 }  // namespace dslam

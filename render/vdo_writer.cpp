@@ -12,6 +12,7 @@
 #include <iomanip>
 #include <map>
 #include <stdexcept>
+#include <vector>
 
 namespace dslam {
 namespace {
@@ -47,9 +48,13 @@ std::ofstream Open(const std::string& path) {
 }
 }  // namespace
 
-VdoWriter::VdoWriter(const std::string& dir, const Scene& scene, const CameraIntrinsics& camera)
-    : dir_(dir), scene_(scene), camera_(camera) {
-  for (const char* sub : {"image_0", "depth", "mask", "semantic"}) {
+VdoWriter::VdoWriter(const std::string& dir, const Scene& scene, const CameraIntrinsics& camera,
+                     double stereo_baseline_m)
+    : dir_(dir), scene_(scene), camera_(camera), stereo_baseline_m_(stereo_baseline_m) {
+  std::vector<std::string> subs = {"image_0", "depth", "mask", "semantic", "flow"};
+  if (stereo_baseline_m > 0.0) subs.push_back("image_1");
+  for (const std::string& sub : subs) {
+    if (sub == "flow") continue;  // made by the first writeFlow()
     std::error_code ec;
     std::filesystem::create_directories(dir + "/" + sub, ec);
     if (ec) throw std::runtime_error("cannot create " + dir + "/" + sub + ": " + ec.message());
@@ -60,16 +65,31 @@ VdoWriter::VdoWriter(const std::string& dir, const Scene& scene, const CameraInt
   std::ofstream categories = Open(dir + "/object_category.txt");
   for (const auto& o : scene.objects) categories << o.object_id << ' ' << o.category << '\n';
   std::ofstream calib = Open(dir + "/calib.txt");
-  for (int i = 0; i < 4; ++i)  // one camera (stereo not rendered yet): every P is the left one
-    calib << 'P' << i << ": " << camera.fx << " 0 " << camera.cx << " 0 0 " << camera.fy << ' ' << camera.cy
-          << " 0 0 0 1 0\n";
+  // Rectified cameras of one intrinsics: P0..P2 the left one; P3 the right one, -fx * baseline in its first row
+  // (KITTI's convention), the left one again without stereo.
+  for (int i = 0; i < 4; ++i)
+    calib << 'P' << i << ": " << camera.fx << " 0 " << camera.cx << ' ' << (i == 3 ? -camera.fx * stereo_baseline_m : 0.0)
+          << " 0 " << camera.fy << ' ' << camera.cy << " 0 0 0 1 0\n";
   calib << "R0_rect: 1 0 0 0 1 0 0 0 1\n";
 }
 
-void VdoWriter::write(int k, const RgbdFrame& f) {
+void VdoWriter::writeFlow(int k, const FlowField& flow) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir_ + "/flow", ec);
+  if (ec) throw std::runtime_error("cannot create " + dir_ + "/flow: " + ec.message());
+  WriteFlo(dir_ + "/flow/" + Name(k, "flo"), flow);
+}
+
+void VdoWriter::write(int k, const RgbdFrame& f, const RgbdFrame* right) {
   const int w = f.width, h = f.height;
   WritePng<uint8_t>(dir_ + "/image_0/" + Name(k, "png"), w, h, 3, VTK_UNSIGNED_CHAR,
                     [&](int u, int v, int c) { return f.rgb[3 * (static_cast<size_t>(v) * w + u) + c]; });
+  if (stereo_baseline_m_ > 0.0) {
+    if (!right || right->width != w || right->height != h)
+      throw std::invalid_argument("frame " + std::to_string(k) + ": a stereo scene needs the right image, of the left's size");
+    WritePng<uint8_t>(dir_ + "/image_1/" + Name(k, "png"), w, h, 3, VTK_UNSIGNED_CHAR,
+                      [&](int u, int v, int c) { return right->rgb[3 * (static_cast<size_t>(v) * w + u) + c]; });
+  }
   WritePng<uint16_t>(dir_ + "/depth/" + Name(k, "png"), w, h, 1, VTK_UNSIGNED_SHORT, [&](int u, int v, int) {
     const double mm = std::round(f.depth(u, v) * 1000.0);
     return static_cast<uint16_t>(std::clamp(mm, 0.0, 65535.0));

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <opencv2/imgproc.hpp>
+
 #include "support/synthetic_images.h"
 
 namespace dslam {
@@ -40,6 +42,35 @@ TEST_P(FlowMethods, RecoverASubPixelTranslation) {
 
 INSTANTIATE_TEST_SUITE_P(All, FlowMethods,
                          ::testing::Values(FlowMethod::kLucasKanade, FlowMethod::kDis, FlowMethod::kPrecomputed));
+
+// Descriptor matching moves each point to a corner of the current image: on a shift, the matches it keeps
+// land within a pixel or so of the truth (whole pixels, on a sub-pixel shift), and the points of a region
+// whose content changed find few (random) matches.
+TEST(FlowTracker, OrbMatchingFindsWholePixelShiftsAndNotChangedContent) {
+  const cv::Mat prev = test::RandomTexture(320, 200, 7);
+  cv::Mat curr = test::Shifted(prev, 5.0, -3.0);
+  test::RandomTexture(160, 200, 98).copyTo(curr(cv::Rect(160, 0, 160, 200)));
+  FlowParams params;
+  params.method = ParseFlowMethod("orb");
+  FlowTracker tracker(params);
+  std::vector<cv::Point2f> corners;
+  cv::goodFeaturesToTrack(prev, corners, 400, 0.01, 6);
+  const FlowResult r = tracker.track(prev, curr, corners);
+  int left = 0, left_ok = 0, left_exact = 0, right = 0, right_ok = 0;
+  for (size_t i = 0; i < corners.size(); ++i) {
+    const bool left_side = corners[i].x > 30 && corners[i].x < 130 && corners[i].y > 30 && corners[i].y < 170;
+    if (left_side) {
+      ++left, left_ok += r.ok[i];
+      left_exact += r.ok[i] && cv::norm(r.points[i] - corners[i] - cv::Point2f(5.0f, -3.0f)) <= 1.5;
+    }
+    if (corners[i].x > 190) ++right, right_ok += r.ok[i];
+  }
+  ASSERT_GT(left, 20);
+  EXPECT_GT(left_ok, 0.3 * left);
+  EXPECT_GT(left_exact, 0.9 * left_ok);
+  EXPECT_LT(right_ok, 0.2 * right);
+  EXPECT_EQ(ToString(FlowMethod::kOrb), "orb");
+}
 
 TEST(FlowTracker, ForwardBackwardCheckRejectsPointsWhoseContentChanged) {
   const cv::Mat prev = test::RandomTexture(320, 200, 5);

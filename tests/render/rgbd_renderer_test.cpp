@@ -131,6 +131,35 @@ TEST_F(RgbdRendererTest, MaskMatchesTheAnalyticProjectionOfTheBox) {
   EXPECT_LT(std::abs(shift.y()), 0.25) << shift.transpose();
 }
 
+// render-scene --stereo: the right camera sits the baseline along the left one's x, so a surface at depth z
+// appears fx * b / z pixels further left in the right image (KITTI's rectified pair).
+TEST_F(RgbdRendererTest, AStereoPairsDisparityIsFocalTimesBaselineOverDepth) {
+  const CameraIntrinsics K;
+  RgbdRenderer renderer(K, {});
+  constexpr double kBaselineM = 0.54;
+  const SE3 T_left_right(Eigen::Quaterniond::Identity(), Vec3(kBaselineM, 0.0, 0.0));
+  for (double z : {6.0, 12.0, 25.0}) {
+    RenderBox box;
+    box.object_id = 3;
+    // Face-on: the box's end (its -x face after the rotation) faces the camera at depth z.
+    box.L_world_object = SE3(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitY()).toRotationMatrix(), Vec3(0.0, 0.75, z + 2.0));
+    const RgbdFrame left = renderer.render(SE3::Identity(), {box});
+    const RgbdFrame right = renderer.render(T_left_right, {box});
+    // The left edge of the box's mask on the row through the face's middle, sub-pixel by coverage.
+    auto left_edge = [&](const RgbdFrame& f) {
+      const int v = static_cast<int>(K.cy);
+      for (int u = 0; u < f.width; ++u)
+        if (f.id(u, v) == 3) return u;
+      return -1;
+    };
+    const int u_left = left_edge(left), u_right = left_edge(right);
+    ASSERT_GE(u_left, 0) << z;
+    ASSERT_GE(u_right, 0) << z;
+    EXPECT_NEAR(left.depth(u_left + 2, static_cast<int>(K.cy)), z, 0.01) << z;
+    EXPECT_NEAR(u_left - u_right, K.fx * kBaselineM / z, 1.0) << "depth " << z;
+  }
+}
+
 TEST_F(RgbdRendererTest, ColourIsTexturedAndDeterministic) {
   const CameraIntrinsics K;
   RgbdRenderer renderer(K, Ground());
