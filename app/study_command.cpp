@@ -14,6 +14,8 @@
 
 #include "data/mask_degrader.h"
 #include "frontend/tracking_comparison.h"
+#include "output/report_html.h"
+#include "output/result_reader.h"
 #include "output/whole_file.h"
 #include "pipeline/image_run.h"
 #include "pipeline/run_sequence.h"
@@ -224,7 +226,25 @@ int RunStudyCommand(const StudyCommandOptions& options, std::ostream& out, std::
     err << "dslam study: error: " << e.what() << std::endl;
     return 2;
   }
-  if (options.no_figures) return 0;
+  // The page a person reads: both tables, and the figures when drawn.
+  auto write_report = [&](const std::vector<std::string>& figures) {
+    auto rows = [](const CsvTable& t) {
+      std::vector<std::vector<std::string>> all = {t.header};
+      all.insert(all.end(), t.rows.begin(), t.rows.end());
+      return all;
+    };
+    WriteStudyReportHtml(options.dataset_dir, rows(ReadCsv(options.out_dir + "/study.csv")),
+                         rows(ReadCsv(options.out_dir + "/tracking.csv")), figures, options.out_dir + "/report.html");
+  };
+  if (options.no_figures) {
+    try {
+      write_report({});
+    } catch (const std::exception& e) {
+      err << "dslam study: error: " << e.what() << std::endl;
+      return 2;
+    }
+    return 0;
+  }
 
   std::string error;
   const auto display = HeadlessDisplay::Acquire(&error);
@@ -272,8 +292,9 @@ int RunStudyCommand(const StudyCommandOptions& options, std::ostream& out, std::
     figure.height = 1000;
     DrawBarFigure("Flow vs matching: correspondences from frame k to k+1", trackers, {matches, epe},
                   options.out_dir + "/study_tracking.png", figure);
-    out << "Figures: " << options.out_dir << "/study_effects.png, " << options.out_dir << "/study_tracking.png"
-        << std::endl;
+    write_report({"study_effects.png", "study_tracking.png"});
+    out << "Figures: " << options.out_dir << "/study_effects.png, " << options.out_dir
+        << "/study_tracking.png; the page: " << options.out_dir << "/report.html" << std::endl;
   } catch (const std::exception& e) {
     err << "dslam study: error: " << e.what() << std::endl;
     return 2;

@@ -4,7 +4,7 @@
 // made realistic: depth (Gaussian noise of 0.02, 0.04, 0.06 m, or stereo SGBM), segmentation (a degraded
 // segmenter, data/mask_degrader.h) or tracking (LK, DIS, ORB matching); a last run makes all three
 // realistic together. Each setting runs ours and the baselines; the study writes study.csv, the tracking
-// comparison tracking.csv, and two figures.
+// comparison tracking.csv, two figures and report.html.
 
 #include <ostream>
 #include <string>

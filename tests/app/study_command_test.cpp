@@ -76,6 +76,8 @@ TEST(StudyCommand, WritesEverySettingForEveryMethodTheTrackingComparisonAndBothF
   EXPECT_EQ(std::stod(tracking[1][5]), 0.0);  // the exact correspondences' own EPE
   for (size_t i = 2; i < tracking.size(); ++i) EXPECT_GT(std::stod(tracking[i][5]), 0.0) << tracking[i][0];
 
+  const std::string page = options.out_dir + "/report.html";
+  ASSERT_TRUE(std::filesystem::exists(page));
   for (const char* png : {"study_effects.png", "study_tracking.png"}) {
     const cv::Mat image = cv::imread(options.out_dir + "/" + png);
     ASSERT_FALSE(image.empty()) << png;
