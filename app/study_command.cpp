@@ -135,6 +135,9 @@ int RunStudyCommand(const StudyCommandOptions& options, std::ostream& out, std::
       }
     }
 
+    out << "Degraded segmenter: mIoU " << std::setprecision(3) << segmentation.miou() << ", detection rate "
+        << segmentation.detectionRate() << " over " << segmentation.instances << " object instances" << std::endl;
+
     // The tracking comparison over consecutive frames, against the exact correspondences.
     {
       TrackingComparison comparison({FlowMethod::kLucasKanade, FlowMethod::kDis, FlowMethod::kOrb});
@@ -218,8 +221,6 @@ int RunStudyCommand(const StudyCommandOptions& options, std::ostream& out, std::
              << Cell(t.good_matches) << ',' << Cell(t.mean_epe_px) << ',' << Cell(t.mean_good_epe_px) << '\n';
       tcsv.commit();
     }
-    out << "Segmentation: degraded masks mIoU " << std::setprecision(3) << segmentation.miou() << ", detection rate "
-        << segmentation.detectionRate() << " over " << segmentation.instances << " object instances" << std::endl;
     out << "Study written to " << options.out_dir << "/study.csv and tracking.csv ("
         << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s)" << std::endl;
   } catch (const std::exception& e) {
