@@ -189,8 +189,10 @@ int RunStudyCommand(const StudyCommandOptions& options, std::ostream& out, std::
       r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       if (!options.quiet) {
         const auto& m = r.outcomes.at(Method::kOurs).metrics;
-        out << " RTE " << Cell(m.camera.rte_pct) << " %, OMSE " << (m.objects ? Cell(m.objects->omse_pct) : "")
-            << " % (" << std::setprecision(3) << r.seconds << " s)" << std::endl;
+        const std::string omse = m.objects ? Cell(m.objects->omse_pct) : "";
+        out << " RTE " << Cell(m.camera.rte_pct) << " %, OMSE "
+            << (omse.empty() ? std::string("- (no moving object)") : omse + " %") << " (" << std::setprecision(3)
+            << r.seconds << " s)" << std::endl;
       }
       results.push_back(std::move(r));
     }
