@@ -87,6 +87,36 @@ struct SettingResult {
   double seconds = 0.0;
 };
 
+// study.csv: one row per setting and method, rewritten whole after each setting (a study cut short keeps
+// the settings it finished).
+void WriteStudyCsv(const std::string& path, const std::vector<SettingResult>& results) {
+  WholeFile csv(path);
+  csv << "component,setting,method,rte_pct,rre_deg_per_m,ate_m,omte_pct,omre_deg_per_m,omse_pct,object_coverage,"
+         "object_pairs_estimated,object_gt_pairs,mask_miou,mask_detection_rate\n";
+  for (const SettingResult& r : results)
+    for (const auto& [method, outcome] : r.outcomes) {
+      const MethodMetrics& m = outcome.metrics;
+      csv << r.setting.component << ',' << r.setting.name << ',' << ToString(method) << ',' << Cell(m.camera.rte_pct)
+          << ',' << Cell(m.camera.rre_deg_per_m) << ',' << Cell(m.camera.ate_m) << ',';
+      if (m.objects)
+        csv << Cell(m.objects->omte_pct) << ',' << Cell(m.objects->omre_deg_per_m) << ',' << Cell(m.objects->omse_pct)
+            << ',' << Cell(m.objects->object_coverage) << ',' << m.objects->estimated_pairs << ',' << m.objects->gt_pairs;
+      else
+        csv << ",,,,,";
+      csv << ',' << Cell(r.miou) << ',' << Cell(r.detection_rate) << '\n';
+    }
+  csv.commit();
+}
+
+void WriteTrackingCsv(const std::string& path, const std::vector<TrackingScore>& tracking) {
+  WholeFile csv(path);
+  csv << "tracker,frame_pairs,matches,object_matches,good_matches,mean_epe_px,mean_good_epe_px\n";
+  for (const TrackingScore& t : tracking)
+    csv << t.tracker << ',' << t.frame_pairs << ',' << Cell(t.matches) << ',' << Cell(t.object_matches) << ','
+        << Cell(t.good_matches) << ',' << Cell(t.mean_epe_px) << ',' << Cell(t.mean_good_epe_px) << '\n';
+  csv.commit();
+}
+
 }  // namespace
 
 int RunStudyCommand(const StudyCommandOptions& options, std::ostream& out, std::ostream& err) {
@@ -139,6 +169,7 @@ int RunStudyCommand(const StudyCommandOptions& options, std::ostream& out, std::
         << segmentation.detectionRate() << " over " << segmentation.instances << " object instances" << std::endl;
 
     // The tracking comparison over consecutive frames, against the exact correspondences.
+    if (!options.quiet) out << "Tracking comparison (LK, DIS, ORB against the exact flow) ..." << std::endl;
     {
       TrackingComparison comparison({FlowMethod::kLucasKanade, FlowMethod::kDis, FlowMethod::kOrb});
       cv::Mat previous_gray, previous_ids, previous_flow;
@@ -151,6 +182,7 @@ int RunStudyCommand(const StudyCommandOptions& options, std::ostream& out, std::
       }
       tracking = comparison.scores();
     }
+    WriteTrackingCsv(options.out_dir + "/tracking.csv", tracking);
 
     for (const Setting& setting : Settings()) {
       const auto t0 = std::chrono::steady_clock::now();
@@ -195,34 +227,9 @@ int RunStudyCommand(const StudyCommandOptions& options, std::ostream& out, std::
             << r.seconds << " s)" << std::endl;
       }
       results.push_back(std::move(r));
+      WriteStudyCsv(options.out_dir + "/study.csv", results);
     }
 
-    // study.csv: one row per setting and method.
-    {
-      WholeFile csv(options.out_dir + "/study.csv");
-      csv << "component,setting,method,rte_pct,rre_deg_per_m,ate_m,omte_pct,omre_deg_per_m,omse_pct,object_coverage,"
-             "object_pairs_estimated,object_gt_pairs,mask_miou,mask_detection_rate\n";
-      for (const SettingResult& r : results)
-        for (const auto& [method, outcome] : r.outcomes) {
-          const MethodMetrics& m = outcome.metrics;
-          csv << r.setting.component << ',' << r.setting.name << ',' << ToString(method) << ',' << Cell(m.camera.rte_pct)
-              << ',' << Cell(m.camera.rre_deg_per_m) << ',' << Cell(m.camera.ate_m) << ',';
-          if (m.objects)
-            csv << Cell(m.objects->omte_pct) << ',' << Cell(m.objects->omre_deg_per_m) << ',' << Cell(m.objects->omse_pct)
-                << ',' << Cell(m.objects->object_coverage) << ',' << m.objects->estimated_pairs << ','
-                << m.objects->gt_pairs;
-          else
-            csv << ",,,,,";
-          csv << ',' << Cell(r.miou) << ',' << Cell(r.detection_rate) << '\n';
-        }
-      csv.commit();
-      WholeFile tcsv(options.out_dir + "/tracking.csv");
-      tcsv << "tracker,frame_pairs,matches,object_matches,good_matches,mean_epe_px,mean_good_epe_px\n";
-      for (const TrackingScore& t : tracking)
-        tcsv << t.tracker << ',' << t.frame_pairs << ',' << Cell(t.matches) << ',' << Cell(t.object_matches) << ','
-             << Cell(t.good_matches) << ',' << Cell(t.mean_epe_px) << ',' << Cell(t.mean_good_epe_px) << '\n';
-      tcsv.commit();
-    }
     out << "Study written to " << options.out_dir << "/study.csv and tracking.csv ("
         << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s)" << std::endl;
   } catch (const std::exception& e) {
