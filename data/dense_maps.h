@@ -16,8 +16,8 @@ struct FlowField {
 };
 // Middlebury .flo: "PIEH" (float 202021.25), int32 width, int32 height, width*height*2 float32.
 FlowField ReadFlo(const std::string& path);
-// Writes `flow` whole (a temporary file renamed), so that a reader never sees half of one. Unknown flow
-// (no surface, occluded in the next frame) is written as Middlebury's unknown, 1e10.
+// Writes `flow` whole (a temporary file renamed), so that a reader never sees half of one. Unknown flow (no
+// surface, hidden in the next frame) follows Middlebury: a component above kUnknownFlow (ExactFlow writes 1e10).
 void WriteFlo(const std::string& path, const FlowField& flow);
 // Middlebury's threshold of unknown flow: a component above it means "no flow here".
 constexpr float kUnknownFlow = 1e9f;

@@ -51,10 +51,9 @@ std::ofstream Open(const std::string& path) {
 VdoWriter::VdoWriter(const std::string& dir, const Scene& scene, const CameraIntrinsics& camera,
                      double stereo_baseline_m)
     : dir_(dir), scene_(scene), camera_(camera), stereo_baseline_m_(stereo_baseline_m) {
-  std::vector<std::string> subs = {"image_0", "depth", "mask", "semantic", "flow"};
+  std::vector<std::string> subs = {"image_0", "depth", "mask", "semantic"};  // flow/: by the first writeFlow()
   if (stereo_baseline_m > 0.0) subs.push_back("image_1");
   for (const std::string& sub : subs) {
-    if (sub == "flow") continue;  // made by the first writeFlow()
     std::error_code ec;
     std::filesystem::create_directories(dir + "/" + sub, ec);
     if (ec) throw std::runtime_error("cannot create " + dir + "/" + sub + ": " + ec.message());
