@@ -76,6 +76,24 @@ TEST(ReadFlo, RoundTripAndBadFiles) {
   EXPECT_THROW(ReadFlo(path), std::runtime_error);
 }
 
+TEST(WriteFlo, WritesWhatReadFloReadsWholeAndRefusesAFieldOfTheWrongSize) {
+  const std::string path = TempPath("w.flo");
+  FlowField f;
+  f.width = 3, f.height = 2;
+  f.uv = {1.5f, -2.0f, 0.25f, 3.0f, 1e10f, 1e10f, -7.0f, 0.5f, 0.0f, 0.0f, 4.0f, -4.0f};
+  WriteFlo(path, f);
+  const FlowField back = ReadFlo(path);
+  EXPECT_EQ(back.width, 3);
+  EXPECT_EQ(back.height, 2);
+  EXPECT_EQ(back.uv, f.uv);
+  EXPECT_GT(back.u(2, 0), kUnknownFlow);  // unknown stays unknown
+  EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
+  f.uv.pop_back();
+  EXPECT_THROW(WriteFlo(path, f), std::invalid_argument);
+  EXPECT_EQ(ReadFlo(path).uv.size(), 12u);  // the file written before is untouched
+  EXPECT_THROW(WriteFlo(TempPath("no_such_dir") + "/x.flo", back), std::runtime_error);
+}
+
 TEST(ReadSemanticTxt, ReadsTheKittiSample) {
   const std::string path = kSamples + "/0000_semantic_000101.txt";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data absent: " << path;
