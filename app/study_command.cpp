@@ -216,7 +216,9 @@ int RunStudyCommand(const StudyCommandOptions& options, std::ostream& out, std::
       ImageRunSummary summary;
       const Sequence seq = RunImageFrontend(data, config, frames, nullptr, &summary, nullptr, &ours, nullptr);
       run.precomputed[Method::kOurs] = std::move(ours);
-      SettingResult r{setting, RunSequence(seq, config, run)};
+      SettingResult r;
+      r.setting = setting;
+      r.outcomes = RunSequence(seq, config, run);
       if (degraded) r.miou = segmentation.miou(), r.detection_rate = segmentation.detectionRate();
       r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       if (!options.quiet) {

@@ -196,11 +196,14 @@ void ExpectSameMeasurement(const FrameMeasurement& a, const FrameMeasurement& b)
       EXPECT_EQ(a.objects[o].points[i].p_camera, b.objects[o].points[i].p_camera);
     }
     ASSERT_EQ(a.objects[o].motion_fit.has_value(), b.objects[o].motion_fit.has_value());
-    if (a.objects[o].motion_fit)
+    if (a.objects[o].motion_fit) {
       EXPECT_EQ(a.objects[o].motion_fit->H_camera_prev.translation(), b.objects[o].motion_fit->H_camera_prev.translation());
+    }
   }
   ASSERT_EQ(a.camera_motion_guess.has_value(), b.camera_motion_guess.has_value());
-  if (a.camera_motion_guess) EXPECT_EQ(a.camera_motion_guess->translation(), b.camera_motion_guess->translation());
+  if (a.camera_motion_guess) {
+    EXPECT_EQ(a.camera_motion_guess->translation(), b.camera_motion_guess->translation());
+  }
 }
 
 // For a pipeline whose back-end refuses a frame the front-end took (VehiclePipeline): after undoLast() the
