@@ -211,7 +211,9 @@ TEST(Scenarios, FrameByFrameEqualsAllAtOnceAndObservationsGrowWithTheFramesMade)
       const auto& observed = simulator.groundTruth().objects.at(frame.objects[j].object_id).observed_frames;
       EXPECT_EQ(*observed.rbegin(), k);
     }
-    if (k > 0) EXPECT_EQ(frame.odometry->T_prev_curr.translation(), expected.odometry->T_prev_curr.translation());
+    if (k > 0) {
+      EXPECT_EQ(frame.odometry->T_prev_curr.translation(), expected.odometry->T_prev_curr.translation());
+    }
   }
   EXPECT_TRUE(simulator.done());
   EXPECT_THROW(simulator.next(), std::logic_error);
