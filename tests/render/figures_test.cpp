@@ -140,7 +140,8 @@ TEST_F(Figures, CommandDrawsEveryFigureAndTheReportDeterministically) {
   }
   std::ifstream html(dir + "/report.html");
   const std::string page((std::istreambuf_iterator<char>(html)), std::istreambuf_iterator<char>());
-  for (const char* needle : {"<table>", "omte_pct", "SLAM+MOT", "src=\"trajectory.png\"", "src=\"map.png\""})
+  for (const char* needle : {"<table>", "Object motion translation error (OMTE)", "SLAM+MOT", "src=\"trajectory.png\"",
+                             "src=\"map.png\""})
     EXPECT_NE(page.find(needle), std::string::npos) << needle;
   EXPECT_EQ(page.find("http"), std::string::npos);  // opens from disk, nothing fetched
 
