@@ -39,6 +39,9 @@ TEST(ExitStatus, EveryCommandEndsWithAStatusOfTheReadmeTable) {
   std::ofstream(dir + "/a_file") << "x";
   EXPECT_EQ(Status("sim --frames 5 --out " + dir + "/a_file/results"), 2);
   EXPECT_EQ(Status("figures " + dir + "/missing"), 2);
+  EXPECT_EQ(Status("study --dataset " + dir + "/missing" + out), 2);
+  EXPECT_EQ(Status("study --dataset " + dir + " --frames -1" + out), 2);
+  EXPECT_EQ(Status("study --dataset " + dir + out), 2);  // not a rendered scene with a stereo pair and exact flow
   // 3: results written, figures not drawn (no Xvfb to be found, no display).
   EXPECT_EQ(Status("sim --frames 5 --quiet" + out, "env -u DISPLAY PATH=/nonexistent"), 3);
   EXPECT_TRUE(std::filesystem::exists(dir + "/results/metrics.json"));
