@@ -34,6 +34,7 @@ int RunRenderSceneCommand(const RenderSceneOptions& options, std::ostream& out, 
       throw std::invalid_argument("give either --kitti DIR --seq SSSS or --scenario NAME");
     Scene scene;
     CameraIntrinsics camera;
+    double baseline_m = kKittiStereoBaselineM;
     std::string what;
     if (!options.kitti_dir.empty()) {
       const KittiGroundTruthSequence gt = LoadKittiGroundTruth(options.kitti_dir, options.sequence);
@@ -41,6 +42,9 @@ int RunRenderSceneCommand(const RenderSceneOptions& options, std::ostream& out, 
       if (gt.calibration) {
         camera.fx = gt.calibration->fx(), camera.fy = gt.calibration->fy();
         camera.cx = gt.calibration->cx(), camera.cy = gt.calibration->cy();
+        // The sequence's own stereo baseline, between its colour cameras (P2, P3), when it gives one.
+        const double b = (gt.calibration->P[2](0, 3) - gt.calibration->P[3](0, 3)) / gt.calibration->fx();
+        if (b > 0.0 && std::isfinite(b)) baseline_m = b;
       }
       what = "KITTI " + options.sequence;
     } else {
@@ -64,8 +68,8 @@ int RunRenderSceneCommand(const RenderSceneOptions& options, std::ostream& out, 
       return 3;
     }
     RgbdRenderer renderer(camera, scene.static_quads);
-    VdoWriter writer(options.out_dir, scene, camera, options.stereo ? kKittiStereoBaselineM : 0.0);
-    const SE3 T_left_right(Eigen::Quaterniond::Identity(), Vec3(kKittiStereoBaselineM, 0.0, 0.0));
+    VdoWriter writer(options.out_dir, scene, camera, options.stereo ? baseline_m : 0.0);
+    const SE3 T_left_right(Eigen::Quaterniond::Identity(), Vec3(baseline_m, 0.0, 0.0));
     std::optional<RgbdFrame> previous;  // for the exact flow from it to the frame just rendered
     const int frames = options.frames > 0 ? std::min<int>(options.frames, scene.T_world_camera.size())
                                           : static_cast<int>(scene.T_world_camera.size());

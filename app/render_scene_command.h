@@ -5,7 +5,8 @@
 
 namespace dslam {
 
-constexpr double kKittiStereoBaselineM = 0.54;  // KITTI's colour cameras (P2, P3)
+constexpr double kKittiStereoBaselineM = 0.54;  // KITTI's colour cameras (P2, P3), when no calibration says
+
 
 struct RenderSceneOptions {
   std::string kitti_dir;   // KITTI tracking data (either layout), or
@@ -18,7 +19,7 @@ struct RenderSceneOptions {
   double depth_noise_m = 0.0;           // depth noise sigma at zero depth
   double depth_noise_per_m2 = 0.0;      // ... plus this per square metre of depth
   uint64_t seed = 1;
-  bool stereo = false;      // also the right camera (image_1/, KITTI's 0.54 m baseline, P3)
+  bool stereo = false;      // also the right camera (image_1/, P3): the sequence's baseline, else 0.54 m
   bool exact_flow = false;  // also the exact forward flow (flow/NNNNNN.flo, 3.7 MB a KITTI-sized frame)
   bool quiet = false;
 };

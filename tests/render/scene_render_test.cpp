@@ -3,6 +3,8 @@
 // to track features between consecutive frames.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <set>
 #include <opencv2/imgcodecs.hpp>
@@ -32,6 +34,7 @@ class RenderScene : public ::testing::Test {
     o.kitti_dir = kKitti;
     o.sequence = "0000";
     o.frames = 6;
+    o.stereo = true;
     o.out_dir = *dir_;
     o.quiet = true;
     std::ostringstream out, err;
@@ -55,6 +58,21 @@ class RenderScene : public ::testing::Test {
 std::string* RenderScene::dir_ = nullptr;
 std::string* RenderScene::log_ = nullptr;
 int RenderScene::code_ = -1;
+
+// --stereo on a KITTI sequence: the right camera sits at the sequence's own baseline between its colour
+// cameras ((P2 - P3) / fx in its calibration: 0.532 m on 0000, not the nominal 0.54 m).
+TEST_F(RenderScene, TheStereoPairHasTheSequencesOwnBaseline) {
+  const KittiCalibration kitti = ReadKittiCalibration(kKitti + "/calib/0000.txt");
+  const double expected = (kitti.P[2](0, 3) - kitti.P[3](0, 3)) / kitti.fx();
+  const KittiCalibration written = ReadKittiCalibration(*dir_ + "/calib.txt");
+  EXPECT_NEAR((written.P[2](0, 3) - written.P[3](0, 3)) / written.fx(), expected, 1e-6);
+  EXPECT_GT(std::abs(expected - 0.54), 0.005);
+  for (int k = 0; k < 6; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "/image_1/%06d.png", k);
+    EXPECT_TRUE(fs::exists(*dir_ + name)) << name;
+  }
+}
 
 TEST_F(RenderScene, OutputReadsBackInTheVdoLayout) {
   const auto poses = ReadPoseGt(*dir_ + "/pose_gt.txt");
