@@ -10,7 +10,6 @@
 #include <random>
 #include <sstream>
 
-#include <opencv2/imgproc.hpp>
 
 #include "data/mask_degrader.h"
 #include "frontend/tracking_comparison.h"
@@ -172,13 +171,11 @@ int RunStudyCommand(const StudyCommandOptions& options, std::ostream& out, std::
     if (!options.quiet) out << "Tracking comparison (LK, DIS, ORB against the exact flow) ..." << std::endl;
     {
       TrackingComparison comparison({FlowMethod::kLucasKanade, FlowMethod::kDis, FlowMethod::kOrb});
-      cv::Mat previous_gray, previous_ids, previous_flow;
-      for (int k = 0; k < frames; ++k) {
-        const ImageFrame f = exact.read(k);
-        cv::Mat gray;
-        cv::cvtColor(f.image, gray, f.image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
-        if (k > 0) comparison.add(previous_gray, gray, previous_ids, previous_flow);
-        previous_gray = gray, previous_ids = f.instance_ids, previous_flow = f.flow_to_next;
+      ImageFrame previous = exact.read(0);
+      for (int k = 1; k < frames; ++k) {
+        ImageFrame current = exact.read(k);
+        comparison.add(previous, current);
+        previous = std::move(current);
       }
       tracking = comparison.scores();
     }

@@ -1,5 +1,7 @@
 #include "data/image_frame.h"
 
+#include <opencv2/imgproc.hpp>
+
 namespace dslam {
 
 std::string FindInvalidImageFrame(const ImageFrame& frame) {
@@ -30,6 +32,13 @@ std::string FindInvalidImageFrame(const ImageFrame& frame) {
     if (!o.sigma.allFinite() || (o.sigma.array() <= 0.0).any()) return where + "odometry sigmas must be positive";
   }
   return {};
+}
+
+cv::Mat GreyImage(const cv::Mat& image) {
+  if (image.channels() == 1) return image;
+  cv::Mat grey;
+  cv::cvtColor(image, grey, image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
+  return grey;
 }
 
 }  // namespace dslam

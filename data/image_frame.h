@@ -27,4 +27,7 @@ struct ImageFrame {
 // pixel type, sizes that differ between image, depth, mask and flow).
 std::string FindInvalidImageFrame(const ImageFrame& frame);
 
+// An 8-bit grey, BGR or BGRA image as 8-bit grey (grey is returned as it is, not copied).
+cv::Mat GreyImage(const cv::Mat& image);
+
 }  // namespace dslam

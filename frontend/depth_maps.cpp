@@ -1,5 +1,7 @@
 #include "frontend/depth_maps.h"
 
+#include "data/image_frame.h"
+
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -25,10 +27,7 @@ cv::Mat ToFloatSingleChannel(const cv::Mat& image, const char* what) {
 cv::Mat Gray8(const cv::Mat& image, const char* what) {
   if (image.empty()) throw std::invalid_argument(std::string(what) + " image is empty");
   if (image.depth() != CV_8U) throw std::invalid_argument(std::string(what) + " image must be 8-bit");
-  if (image.channels() == 1) return image;
-  cv::Mat gray;
-  cv::cvtColor(image, gray, image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
-  return gray;
+  return GreyImage(image);
 }
 
 }  // namespace

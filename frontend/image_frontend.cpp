@@ -15,13 +15,6 @@ namespace {
 // An object's last motion still predicts its flow this many frames later (a short occlusion).
 constexpr int kObjectMotionMemoryFrames = 5;
 
-cv::Mat ToGray(const cv::Mat& image) {
-  if (image.channels() == 1) return image;
-  cv::Mat gray;
-  cv::cvtColor(image, gray, image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
-  return gray;
-}
-
 // Instance labels as CV_32SC1 (negative ids, as Mask R-CNN's "-1 = none", become background).
 cv::Mat ToLabels(const cv::Mat& instance_ids, const cv::Size& size) {
   if (instance_ids.empty()) return cv::Mat(size, CV_32S, cv::Scalar(0));
@@ -139,7 +132,7 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
                                 ": flow method 'precomputed' but the previous frame came without a flow field");
 
   FrontendFrameStats stats;
-  const cv::Mat gray = ToGray(frame.image);
+  const cv::Mat gray = GreyImage(frame.image);
   const cv::Mat labels = ToLabels(frame.instance_ids, gray.size());
   const cv::Mat& depth = frame.depth_m;
 

@@ -12,8 +12,10 @@ namespace dslam {
 TrackingComparison::TrackingComparison(const std::vector<FlowMethod>& trackers, int max_corners)
     : methods_(trackers), max_corners_(max_corners), sums_(trackers.size() + 1) {}
 
-void TrackingComparison::add(const cv::Mat& gray_k, const cv::Mat& gray_next, const cv::Mat& ids_k,
-                             const cv::Mat& exact_flow) {
+void TrackingComparison::add(const ImageFrame& frame_k, const ImageFrame& frame_next) {
+  const cv::Mat gray_k = GreyImage(frame_k.image), gray_next = GreyImage(frame_next.image);
+  const cv::Mat& ids_k = frame_k.instance_ids;
+  const cv::Mat& exact_flow = frame_k.flow_to_next;
   if (exact_flow.type() != CV_32FC2 || exact_flow.size() != gray_k.size())
     throw std::invalid_argument("tracking comparison: the exact flow must be CV_32FC2 of the image size");
   // Corners where the exact correspondence is known: the others cannot be scored.

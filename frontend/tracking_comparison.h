@@ -9,6 +9,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "data/image_frame.h"
 #include "frontend/flow_tracker.h"
 
 namespace dslam {
@@ -28,9 +29,9 @@ class TrackingComparison {
  public:
   // The trackers compared (the exact correspondences are always the first row).
   explicit TrackingComparison(const std::vector<FlowMethod>& trackers, int max_corners = 1500);
-  // Frames k and k+1 (8-bit grey), frame k's instance ids (or empty) and its exact flow to k+1 (CV_32FC2,
-  // components above kUnknownFlow where unknown).
-  void add(const cv::Mat& gray_k, const cv::Mat& gray_next, const cv::Mat& ids_k, const cv::Mat& exact_flow);
+  // Frames k and k+1 of a dataset; frame k carries its instance ids (or none) and its exact flow to k+1
+  // (flow_to_next, CV_32FC2, components above kUnknownFlow where unknown).
+  void add(const ImageFrame& frame_k, const ImageFrame& frame_next);
   std::vector<TrackingScore> scores() const;
 
  private:

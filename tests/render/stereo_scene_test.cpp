@@ -7,7 +7,6 @@
 #include <iostream>
 #include <vector>
 
-#include <opencv2/imgproc.hpp>
 
 #include "data/image_dataset.h"
 #include "frontend/tracking_comparison.h"
@@ -65,13 +64,11 @@ TEST(StereoScene, TheExactFlowIsWhatOpticalFlowFindsAndItsOwnEndPointErrorIsZero
   const ImageDataset data(dir, options);
   ASSERT_TRUE(data.hasFlow());
   TrackingComparison comparison({FlowMethod::kPrecomputed, FlowMethod::kLucasKanade, FlowMethod::kOrb});
-  cv::Mat previous_gray, previous_ids, previous_flow;
-  for (int k = 0; k < data.size(); ++k) {
-    const ImageFrame f = data.read(k);
-    cv::Mat gray;
-    cv::cvtColor(f.image, gray, cv::COLOR_BGR2GRAY);
-    if (k > 0) comparison.add(previous_gray, gray, previous_ids, previous_flow);
-    previous_gray = gray, previous_ids = f.instance_ids, previous_flow = f.flow_to_next;
+  ImageFrame previous = data.read(0);
+  for (int k = 1; k < data.size(); ++k) {
+    ImageFrame current = data.read(k);
+    comparison.add(previous, current);
+    previous = std::move(current);
   }
   const std::vector<TrackingScore> s = comparison.scores();
   ASSERT_EQ(s.size(), 4u);
