@@ -3,13 +3,10 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <limits>
 #include <memory>
-#include <random>
 #include <sstream>
-
 
 #include "data/mask_degrader.h"
 #include "frontend/tracking_comparison.h"
