@@ -17,6 +17,7 @@
 #include "backend/factors/motion_smoothness_factor.h"
 #include "backend/factors/pose_prior_factor.h"
 #include "backend/factors/relative_pose_residual.h"
+#include "backend/spd_inverse.h"
 
 namespace dslam {
 namespace {
@@ -171,7 +172,7 @@ class WindowProblem {
   bool computeStep(double lambda, VecX* dx, std::vector<Vec3>* dp) {
     MatX S;
     VecX b;
-    buildReduced(lambda, &S, &b);
+    if (!buildReduced(lambda, &S, &b)) return false;
     ReducedSystem reduced(6 * num_cameras_);
     last_reduced_.reset();
     if (!reduced.factorise(S)) return false;
@@ -201,15 +202,18 @@ class WindowProblem {
   }
 
  private:
-  // The normal equations with every point group eliminated: S over the cameras then the motions.
-  void buildReduced(double lambda, MatX* S, VecX* b) {
+  // The normal equations with every point group eliminated: S over the cameras then the motions. False
+  // when a group's own block is not positive definite.
+  bool buildReduced(double lambda, MatX* S, VecX* b) {
     const int n = 6 * static_cast<int>(poses_.size());
     *S = MatX::Zero(n, n);
     *b = VecX::Zero(n);
     VecX diag = VecX::Zero(n);  // undamped diagonal of the pose-pose block, for the damping
-    for (Group& g : groups_) eliminate(g, lambda, S, b, &diag);
+    for (Group& g : groups_)
+      if (!eliminate(g, lambda, S, b, &diag)) return false;
     for (const auto& f : pose_factors_) addPoseFactor(f, S, b, &diag);
     for (int i = 0; i < n; ++i) (*S)(i, i) += lambda * std::max(diag[i], 1e-9) + 1e-12;
+    return true;
   }
 
   // The reduced system S factorised by its structure. The motions of different objects are not coupled
@@ -369,7 +373,7 @@ class WindowProblem {
   // Linearises one point group and adds its Schur complement to the reduced pose system. Groups are
   // small (a landmark: 3 unknowns; an object point's chain: 3 per frame of the object window), so their
   // blocks have fixed sizes up to four points; longer chains take heap matrices.
-  void eliminate(Group& g, double lambda, MatX* S, VecX* b, VecX* diag) {
+  bool eliminate(Group& g, double lambda, MatX* S, VecX* b, VecX* diag) {
     switch (g.points.size()) {
       case 1: return eliminateWith<3>(g, lambda, S, b, diag);
       case 2: return eliminateWith<6>(g, lambda, S, b, diag);
@@ -383,7 +387,7 @@ class WindowProblem {
   // pose-pose terms go straight into S. The point-pose coupling W_a is kept as sparse 3x6 row blocks and
   // its Schur complement -W_a^T Hpp^-1 W_c is formed block by block.
   template <int kNp>
-  void eliminateWith(Group& g, double lambda, MatX* S, VecX* b, VecX* diag) {
+  bool eliminateWith(Group& g, double lambda, MatX* S, VecX* b, VecX* diag) {
     using MatPP = Eigen::Matrix<double, kNp, kNp>;
     using MatP6 = Eigen::Matrix<double, kNp, 6>;
     using VecP = Eigen::Matrix<double, kNp, 1>;
@@ -483,7 +487,8 @@ class WindowProblem {
     for (int i = 0; i < np; ++i) Hpp(i, i) += lambda * Hpp(i, i) + 1e-12;
     // Through the explicit inverse and coefficient-wise (lazy) fixed-size products: solving into blocks of
     // the dynamic Y, or Eigen's blocked GEMM above 20 summed dimensions, took most of the solve time.
-    const MatPP Hpp_inv = Eigen::LLT<MatPP>(Hpp).solve(MatPP::Identity(np, np));
+    MatPP Hpp_inv;
+    if (!InverseSpd<kNp>(Hpp, &Hpp_inv)) return false;
     const VecP y = Hpp_inv * gp;
     g.y = y;
     // Y_c = Hpp^-1 W_c, summed over W_c's row blocks; the Schur blocks W_a^T Y_c likewise.
@@ -502,6 +507,7 @@ class WindowProblem {
         if (c != w.pose) S->block<6, 6>(6 * g.poses[c], 6 * pa) -= block.transpose();
       }
     }
+    return true;
   }
 
   // Reused between groups so that the per-pose blocks are not allocated for every group.
