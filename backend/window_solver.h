@@ -21,7 +21,7 @@ struct WindowSolveOptions {
   int first_frame = 0;
   int last_frame = 0;
   int max_iterations = 10;
-  double function_tolerance = 1e-4;  // stop when the cost falls by less than this fraction
+  double function_tolerance = 1e-3;  // stop when the cost falls by less than this fraction
   bool fix_cameras = false;          // SLAM+MOT's object stage: camera poses come from the static stage
   // After the solve, each motion's marginal covariance (MotionVariable::covariance) from the window's
   // information, read from the last step's factorisation (no extra linearisation).
