@@ -203,7 +203,9 @@ class WindowProblem {
 
  private:
   // The normal equations with every point group eliminated: S over the cameras then the motions. False
-  // when a group's own block is not positive definite.
+  // when a group's own block is not positive definite. Contributions go to the blocks on and above the
+  // diagonal only (a 6x6 block at block row <= block column), mirrored once at the end: half the
+  // scattered writes.
   bool buildReduced(double lambda, MatX* S, VecX* b) {
     const int n = 6 * static_cast<int>(poses_.size());
     *S = MatX::Zero(n, n);
@@ -212,6 +214,8 @@ class WindowProblem {
     for (Group& g : groups_)
       if (!eliminate(g, lambda, S, b, &diag)) return false;
     for (const auto& f : pose_factors_) addPoseFactor(f, S, b, &diag);
+    for (int j = 0; j < n; ++j)
+      for (int i = j + 1; i < n; ++i) (*S)(i, j) = (*S)(j, i);
     for (int i = 0; i < n; ++i) (*S)(i, i) += lambda * std::max(diag[i], 1e-9) + 1e-12;
     return true;
   }
@@ -389,7 +393,6 @@ class WindowProblem {
   template <int kNp>
   bool eliminateWith(Group& g, double lambda, MatX* S, VecX* b, VecX* diag) {
     using MatPP = Eigen::Matrix<double, kNp, kNp>;
-    using MatP6 = Eigen::Matrix<double, kNp, 6>;
     using VecP = Eigen::Matrix<double, kNp, 1>;
     const int np = 3 * static_cast<int>(g.points.size()), num_poses = static_cast<int>(g.poses.size());
     auto local_pose = [&](int pose) {
@@ -468,7 +471,7 @@ class WindowProblem {
         b->segment<6>(6 * blocks[a]) += Ja.transpose() * r;
         diag->segment<6>(6 * blocks[a]) += Ja.colwise().squaredNorm().transpose();
         for (int c = 0; c < 2; ++c) {
-          if (blocks[c] < 0) continue;
+          if (blocks[c] < 0 || blocks[c] < blocks[a]) continue;  // upper blocks only
           const Mat6 Jc = c == 0 ? Mat6(J.leftCols<6>()) : Mat6(J.rightCols<6>());
           S->block<6, 6>(6 * blocks[a], 6 * blocks[c]) += Ja.transpose() * Jc;
         }
@@ -491,30 +494,20 @@ class WindowProblem {
     if (!InverseSpd<kNp>(Hpp, &Hpp_inv)) return false;
     const VecP y = Hpp_inv * gp;
     g.y = y;
-    // Y_c = Hpp^-1 W_c, summed over W_c's row blocks; the Schur blocks W_a^T Y_c likewise.
-    std::vector<MatP6>& Y = scratch_Y<kNp>();
-    Y.assign(num_poses, MatP6::Zero(np, 6));
-    for (const WBlock& w : W) Y[w.pose].noalias() += Hpp_inv.template middleCols<3>(w.row).lazyProduct(w.B);
-    g.Y.resize(np, 6 * num_poses);
-    for (int a = 0; a < num_poses; ++a) g.Y.middleCols<6>(6 * a) = Y[a];
+    // Y_c = Hpp^-1 W_c, summed over W_c's row blocks, straight into the group's Y; the Schur blocks
+    // W_a^T Y_c likewise.
+    g.Y.setZero(np, 6 * num_poses);
+    auto Y = [&](int a) { return g.Y.template block<kNp, 6>(0, 6 * a, np, 6); };
+    for (const WBlock& w : W) Y(w.pose).noalias() += Hpp_inv.template middleCols<3>(w.row).lazyProduct(w.B);
     for (const WBlock& w : W) {
       const int pa = g.poses[w.pose];
       b->segment<6>(6 * pa).noalias() -= w.B.transpose() * y.template segment<3>(w.row);
-      // S is symmetric: blocks at and right of the diagonal, mirrored.
-      for (int c = w.pose; c < num_poses; ++c) {
-        const Mat6 block = w.B.transpose().lazyProduct(Y[c].template middleRows<3>(w.row));
-        S->block<6, 6>(6 * pa, 6 * g.poses[c]) -= block;
-        if (c != w.pose) S->block<6, 6>(6 * g.poses[c], 6 * pa) -= block.transpose();
-      }
+      // g.poses is sorted, so c >= w.pose is a block on or above the diagonal.
+      for (int c = w.pose; c < num_poses; ++c)
+        S->block<6, 6>(6 * pa, 6 * g.poses[c]).noalias() -=
+            w.B.transpose().lazyProduct(g.Y.template block<3, 6>(w.row, 6 * c));
     }
     return true;
-  }
-
-  // Reused between groups so that the per-pose blocks are not allocated for every group.
-  template <int kNp>
-  std::vector<Eigen::Matrix<double, kNp, 6>>& scratch_Y() {
-    static thread_local std::vector<Eigen::Matrix<double, kNp, 6>> Y;
-    return Y;
   }
 
   // Residual of a pose factor with block `perturbed` (0: a, 1: b, -1: none) moved by delta.
@@ -548,7 +541,7 @@ class WindowProblem {
       if (blocks[i] < 0) continue;
       b->segment<6>(6 * blocks[i]) += J[i].transpose() * r;
       for (int j = 0; j < 2; ++j)
-        if (blocks[j] >= 0) S->block<6, 6>(6 * blocks[i], 6 * blocks[j]) += J[i].transpose() * J[j];
+        if (blocks[j] >= blocks[i]) S->block<6, 6>(6 * blocks[i], 6 * blocks[j]) += J[i].transpose() * J[j];
       diag->segment<6>(6 * blocks[i]) += J[i].colwise().squaredNorm().transpose();
     }
   }
