@@ -1,6 +1,6 @@
 // End-to-end latency of the DDS participant: a 1242x375 frame (colour, depth, mask, odometry) published
 // to the receipt of its camera estimate, at 10 Hz (median and 99th percentile), and the highest frame rate
-// the participant sustains (every frame estimated, 99th percentile latency under 1.5 frame periods). Publisher, `serve` node and
+// the participant sustains (every frame estimated and no backlog building up; see main). Publisher, `serve` node and
 // listener run in this process, each with its own participant, through a transport (Fast DDS' intra-process
 // shortcut is off): shared memory, or with --transport udp UDPv4 on loopback only, the path a camera driver
 // on another host takes (plugin/ holds all the DDS code; this file only drives it).
@@ -128,7 +128,7 @@ int main(int argc, char** argv) {
   std::printf("DDS end to end on %s (%dx%d), %d frames per rate, over %s\n", dir.c_str(), data.camera().width,
               data.camera().height, frames, transport == "udp" ? "UDPv4 (shared memory off)" : "shared memory");
   std::printf("%8s %10s %12s %10s %10s %14s\n", "rate Hz", "estimated", "median ms", "p99 ms", "first ms", "last ms");
-  double sustained = 0.0;
+  double sustained = 0.0, within_period = 0.0;
   int domain = 150;
   std::vector<double> rates = {1.0, 2.0, 3.0, 5.0, 10.0};
   if (args.size() > 2) {
@@ -140,10 +140,17 @@ int main(int argc, char** argv) {
     const RateResult r = RunAtRate(data, frames, rate, domain++, profiles);
     std::printf("%8.1f %6d/%-3d %12.1f %10.1f %10.1f %14.1f\n", rate, r.received, r.sent, r.median_ms, r.p99_ms,
                 r.first_ms, r.last_ms);
-    // Sustained: every frame estimated, and no backlog: without one a frame's latency is its own
-    // processing time, below the frame period; a backlog adds periods (margin: 1.5 periods at p99).
-    if (r.received == r.sent && r.p99_ms < 1.5 * 1000.0 / rate) sustained = rate;
+    // Sustained: every frame estimated and no backlog building up, i.e. the last ten frames wait no
+    // longer than the first ten (within half a period). The latency itself is the front-end's and the
+    // back-end's time added, since each frame passes both; the stages run in parallel, so at high rates it
+    // may exceed one period while the throughput keeps up. The stricter figure also asks for a p99
+    // latency under 1.5 periods, as a sequential pipeline would need.
+    const double period_ms = 1000.0 / rate;
+    const bool kept_up = r.received == r.sent && r.last_ms < r.first_ms + 0.5 * period_ms;
+    if (kept_up) sustained = rate;
+    if (kept_up && r.p99_ms < 1.5 * period_ms) within_period = rate;
   }
-  std::printf("highest sustained rate: %.1f Hz\n", sustained);
+  std::printf("highest sustained rate: %.1f Hz (every frame estimated, no backlog)\n", sustained);
+  std::printf("highest rate with p99 latency under 1.5 frame periods: %.1f Hz\n", within_period);
   return 0;
 }
