@@ -496,16 +496,19 @@ class WindowProblem {
     g.y = y;
     // Y_c = Hpp^-1 W_c, summed over W_c's row blocks, straight into the group's Y; the Schur blocks
     // W_a^T Y_c likewise.
+    // Y's column blocks are contiguous (column-major), so each is mapped at its fixed size: products
+    // with a block of the dynamic matrix itself were not unrolled.
     g.Y.setZero(np, 6 * num_poses);
-    auto Y = [&](int a) { return g.Y.template block<kNp, 6>(0, 6 * a, np, 6); };
+    auto Y = [&](int a) { return Eigen::Map<Eigen::Matrix<double, kNp, 6>>(g.Y.data() + 6 * a * np, np, 6); };
     for (const WBlock& w : W) Y(w.pose).noalias() += Hpp_inv.template middleCols<3>(w.row).lazyProduct(w.B);
     for (const WBlock& w : W) {
       const int pa = g.poses[w.pose];
       b->segment<6>(6 * pa).noalias() -= w.B.transpose() * y.template segment<3>(w.row);
       // g.poses is sorted, so c >= w.pose is a block on or above the diagonal.
-      for (int c = w.pose; c < num_poses; ++c)
-        S->block<6, 6>(6 * pa, 6 * g.poses[c]).noalias() -=
-            w.B.transpose().lazyProduct(g.Y.template block<3, 6>(w.row, 6 * c));
+      for (int c = w.pose; c < num_poses; ++c) {
+        const Mat6 block = w.B.transpose().lazyProduct(Y(c).template middleRows<3>(w.row));
+        S->block<6, 6>(6 * pa, 6 * g.poses[c]) -= block;
+      }
     }
     return true;
   }
