@@ -495,9 +495,8 @@ class WindowProblem {
     const VecP y = Hpp_inv * gp;
     g.y = y;
     // Y_c = Hpp^-1 W_c, summed over W_c's row blocks, straight into the group's Y; the Schur blocks
-    // W_a^T Y_c likewise.
-    // Y's column blocks are contiguous (column-major), so each is mapped at its fixed size: products
-    // with a block of the dynamic matrix itself were not unrolled.
+    // W_a^T Y_c likewise. Y's column blocks are contiguous (column-major), so each is mapped at its fixed
+    // size: products with a block of the dynamic matrix itself were not unrolled.
     g.Y.setZero(np, 6 * num_poses);
     auto Y = [&](int a) { return Eigen::Map<Eigen::Matrix<double, kNp, 6>>(g.Y.data() + 6 * a * np, np, 6); };
     for (const WBlock& w : W) Y(w.pose).noalias() += Hpp_inv.template middleCols<3>(w.row).lazyProduct(w.B);
