@@ -5,8 +5,8 @@
 
 namespace dslam {
 
-constexpr double kKittiStereoBaselineM = 0.54;  // KITTI's colour cameras (P2, P3), when no calibration says
-
+// KITTI's nominal baseline between its colour cameras (P2, P3), used when no calibration gives one.
+constexpr double kKittiStereoBaselineM = 0.54;
 
 struct RenderSceneOptions {
   std::string kitti_dir;   // KITTI tracking data (either layout), or
