@@ -36,6 +36,7 @@ void BackendParams::validate() const {
   if (max_iterations_batch < 1 || max_iterations_window < 1)
     throw std::invalid_argument("max_iterations_batch and max_iterations_window must be >= 1");
   RequirePositive(window_function_tolerance, "window_function_tolerance");
+  RequirePositive(batch_function_tolerance, "batch_function_tolerance");
   if (num_threads < 1) throw std::invalid_argument("num_threads must be >= 1");
 }
 

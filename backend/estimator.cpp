@@ -66,6 +66,7 @@ Estimate Estimator::finish() {
     SolveOptions solve;
     solve.last_frame = graph_.numFrames() - 1;
     solve.max_iterations = params_.max_iterations_batch;
+    solve.function_tolerance = params_.batch_function_tolerance;
     solve.num_threads = params_.num_threads;
     solve.fix_cameras = static_cast<bool>(options_.fixed_T_world_camera);
     SolveGraph(params_, solve, &graph_);

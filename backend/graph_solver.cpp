@@ -101,6 +101,7 @@ SolveSummary SolveGraph(const BackendParams& params, const SolveOptions& options
   solver_options.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
   solver_options.max_num_iterations = options.max_iterations;
   solver_options.function_tolerance = options.function_tolerance;
+  solver_options.initial_trust_region_radius = options.initial_trust_region_radius;
   solver_options.num_threads = options.num_threads;
   solver_options.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;

@@ -70,6 +70,8 @@ const Schema& GetSchema() {
         {"landmark_history_frames", Field<int>([](RunConfig& c) -> int& { return c.backend.landmark_history_frames; })},
         {"max_iterations_batch", Field<int>([](RunConfig& c) -> int& { return c.backend.max_iterations_batch; })},
         {"max_iterations_window", Field<int>([](RunConfig& c) -> int& { return c.backend.max_iterations_window; })},
+        {"batch_function_tolerance",
+         Field<double>([](RunConfig& c) -> double& { return c.backend.batch_function_tolerance; })},
         {"window_function_tolerance",
          Field<double>([](RunConfig& c) -> double& { return c.backend.window_function_tolerance; })},
         {"num_threads", Field<int>([](RunConfig& c) -> int& { return c.backend.num_threads; })},

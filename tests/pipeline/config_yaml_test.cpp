@@ -16,6 +16,7 @@ TEST(ConfigYaml, RoundTripKeepsEveryValue) {
   c.backend.motion_ransac.inlier_threshold_m = 0.21;
   c.backend.object_window_frames = 4;
   c.backend.landmark_history_frames = 12;
+  c.backend.batch_function_tolerance = 3e-9;
   c.backend.mode_per_object[4] = MotionMode::kConstant;
   c.classifier.dynamic_speed_threshold_mps = 0.8;
   c.classifier.min_static_transitions = 3;
@@ -31,6 +32,7 @@ TEST(ConfigYaml, RoundTripKeepsEveryValue) {
   EXPECT_EQ(back.backend.motion_ransac.inlier_threshold_m, 0.21);
   EXPECT_EQ(back.backend.object_window_frames, 4);
   EXPECT_EQ(back.backend.landmark_history_frames, 12);
+  EXPECT_EQ(back.backend.batch_function_tolerance, 3e-9);
   EXPECT_EQ(back.backend.modeFor(4), MotionMode::kConstant);
   EXPECT_EQ(back.classifier.dynamic_speed_threshold_mps, 0.8);
   EXPECT_EQ(back.classifier.min_static_transitions, 3);
