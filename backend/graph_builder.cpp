@@ -28,9 +28,11 @@ int GraphBuilder::newPointVariable(const Vec3& p_world, int64_t track_id, int ob
   return id;
 }
 
-void GraphBuilder::addMeasurement(int frame, int point_var, const Vec3& z_camera) {
+void GraphBuilder::addMeasurement(int frame, int point_var, const Vec3& z_camera, double extra_variance_m2) {
   graph_->points.at(point_var).last_frame = frame;
-  graph_->frame(frame).measurements.push_back({point_var, z_camera, pointSigma(z_camera)});
+  Vec3 sigma = pointSigma(z_camera);
+  if (extra_variance_m2 > 0.0) sigma = (sigma.array().square() + extra_variance_m2).sqrt().matrix();
+  graph_->frame(frame).measurements.push_back({point_var, z_camera, sigma});
 }
 
 void GraphBuilder::addFrame(const FrameMeasurement& frame, const SE3* T_world_camera_init) {
@@ -121,8 +123,13 @@ void GraphBuilder::addObject(const ObjectObservation& obs, int frame, const SE3&
   }
 
   state.track_to_var.clear();
+  // As static structure, a jittering object's points share one error: each point's variance grows by
+  // N jitter variances, so the N together constrain the camera as one landmark of that jitter would.
+  const double shared_variance_m2 = consecutive && !obs.is_dynamic
+                                        ? static_cast<double>(obs.points.size()) * obs.jitter_sigma_m * obs.jitter_sigma_m
+                                        : 0.0;
   for (size_t i = 0; i < obs.points.size(); ++i) {
-    addMeasurement(frame, curr_vars[i], obs.points[i].p_camera);
+    addMeasurement(frame, curr_vars[i], obs.points[i].p_camera, shared_variance_m2);
     state.track_to_var[obs.points[i].track_id] = curr_vars[i];
   }
   state.last_frame = frame;

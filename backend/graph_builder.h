@@ -40,7 +40,7 @@ class GraphBuilder {
 
   void forgetRetired(int frame);
   Vec3 pointSigma(const Vec3& z_camera) const;
-  void addMeasurement(int frame, int point_var, const Vec3& z_camera);
+  void addMeasurement(int frame, int point_var, const Vec3& z_camera, double extra_variance_m2 = 0.0);
   int newPointVariable(const Vec3& p_world, int64_t track_id, int object_id, int frame, int prev_var);
   void addObject(const ObjectObservation& obs, int frame, const SE3& T_world_camera);
   void addDynamicTransition(const ObjectObservation& obs, int frame, ObjectTrackState& state,

@@ -1,5 +1,6 @@
 #include "data/measurements.h"
 
+#include <cmath>
 #include <set>
 #include <sstream>
 
@@ -24,6 +25,8 @@ std::string FindInvalidMeasurement(const FrameMeasurement& frame) {
   for (const auto& obj : frame.objects) {
     if (!ids.insert(obj.object_id).second)
       return where + "object id " + std::to_string(obj.object_id) + " appears twice";
+    if (!(obj.jitter_sigma_m >= 0.0 && std::isfinite(obj.jitter_sigma_m)))
+      return where + "object " + std::to_string(obj.object_id) + " jitter sigma must be finite and >= 0";
     for (const auto& p : obj.points)
       if (!p.p_camera.allFinite())
         return where + "object " + std::to_string(obj.object_id) + " point track " + std::to_string(p.track_id) +

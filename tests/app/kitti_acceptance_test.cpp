@@ -21,9 +21,10 @@ const std::string kKitti = std::string(DSLAM_SHARED_DATA_DIR) + "/kitti_tracking
 #define REQUIRE_SHARED_DATA() \
   if (!fs::exists(kKitti + "/label_02/0000.txt")) GTEST_SKIP() << "shared data absent: " << kKitti
 
-MethodOutcomes Replay(const std::string& seq, double sigma, const std::vector<Method>& methods) {
+MethodOutcomes Replay(const std::string& seq, double sigma, const std::vector<Method>& methods, uint64_t seed = 1) {
   KittiReplayOptions replay;
   replay.noise.point_sigma_m = sigma;
+  replay.seed = seed;
   const Sequence sequence = MakeKittiReplay(LoadKittiGroundTruth(kKitti, seq), replay);
   RunConfig config;
   config.backend.default_mode = ParseMotionMode(kKittiReplayDefaultMode);
@@ -62,6 +63,23 @@ TEST(KittiReplay, ObjectMotionErrorGrowsWithPointNoise) {
             << " %\n";
   EXPECT_LT(omte[0], omte[1]);
   EXPECT_LT(omte[1], omte[2]);
+}
+
+TEST(KittiReplay, ParkedCarsWhoseLabelsJitterDoNotPullTheCamera) {
+  REQUIRE_SHARED_DATA();
+  // 0000's parked cars are static within the noise, but their labels move them by centimetres a frame;
+  // merged into the map as independent points they pulled ours' camera 3 to 11 % past static-only's
+  // (ATE) at these noise levels. Weighed as one landmark of their jitter, they no longer do.
+  for (const double sigma : {0.04, 0.06}) {
+    for (uint64_t seed = 1; seed <= 2; ++seed) {
+      const auto outcomes = Replay("0000", sigma, {Method::kOurs, Method::kStaticOnly}, seed);
+      const double ours = outcomes.at(Method::kOurs).metrics.camera.ate_m;
+      const double static_only = outcomes.at(Method::kStaticOnly).metrics.camera.ate_m;
+      std::cout << "KITTI 0000, sigma " << sigma << ", seed " << seed << ": camera ATE ours / static-only = " << ours
+                << " / " << static_only << " m\n";
+      EXPECT_LE(ours, 1.02 * static_only) << "sigma " << sigma << ", seed " << seed;
+    }
+  }
 }
 
 TEST(KittiReplay, CommandWritesTheObjectTable) {

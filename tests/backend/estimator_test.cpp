@@ -152,6 +152,46 @@ TEST(GraphBuilder, StartsFromTheFrontEndsMotionFitAndChecksItsInliersInTheWorld)
   EXPECT_TRUE(graph.motions.begin()->second.worldMotion().isApprox(H, 1e-9));
 }
 
+TEST(GraphBuilder, AJitteringStaticObjectsPointsWeighAsOneLandmarkOfItsJitter) {
+  // 16 points of a static object whose position jitters by 3 cm: as static structure each point's
+  // variance grows by 16 x (3 cm)^2, so together they tell the camera what one 3 cm landmark would.
+  // Measured while dynamic, or static without jitter, the points keep the configured sigma.
+  BackendParams params;
+  params.noise.point_sigma_m = 0.02;
+  auto frame = [](int k, bool dynamic, double jitter_m) {
+    FrameMeasurement f;
+    f.frame_index = k;
+    if (k > 0) f.odometry = OdometryMeasurement{SE3::Identity(), Vec6::Constant(0.01)};
+    ObjectObservation o;
+    o.object_id = 5;
+    o.is_dynamic = dynamic;
+    o.jitter_sigma_m = jitter_m;
+    for (int i = 0; i < 16; ++i) o.points.push_back({100 + i, Vec3(1.0 + 0.3 * (i % 4), 0.2 * (i / 4), 10.0)});
+    f.objects = {o};
+    return f;
+  };
+  FactorGraph graph;
+  GraphBuilder builder(params, BuilderOptions{}, &graph);
+  builder.addFrame(frame(0, true, 0.0));
+  builder.addFrame(frame(1, false, 0.0));
+  builder.addFrame(frame(2, false, 0.03));
+  const double widened = std::sqrt(0.02 * 0.02 + 16 * 0.03 * 0.03);
+  for (int k = 0; k < 3; ++k) {
+    ASSERT_EQ(graph.frame(k).measurements.size(), 16u) << k;
+    for (const auto& m : graph.frame(k).measurements)
+      EXPECT_TRUE(m.sigma_m.isApprox(Vec3::Constant(k == 2 ? widened : 0.02), 1e-12)) << k;
+  }
+  // A jitter that is not a finite non-negative sigma is bad input, refused with the object named.
+  for (const double bad : {-0.01, static_cast<double>(NAN)}) {
+    try {
+      builder.addFrame(frame(3, false, bad));
+      ADD_FAILURE() << bad;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("object 5 jitter"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(Estimator, RejectsFramesOutOfSequence) {
   Estimator estimator(BackendParams{}, 10.0);
   FrameMeasurement f;

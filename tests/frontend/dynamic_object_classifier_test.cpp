@@ -135,6 +135,64 @@ TEST(DynamicObjectClassifier, AJitteringParkedObjectKeepsItsOwnMotionButIsReport
   }
 }
 
+// Frame k of a camera creeping 2 cm a frame towards 40 static points and a parked object of 30 points that
+// stands at `object_offset_world`, every point seen with `noise_m` per axis.
+FrameMeasurement ParkedObjectFrame(int k, const Vec3& object_offset_world, double noise_m, std::mt19937_64* rng) {
+  std::mt19937_64 layout(5);  // the same world in every frame
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::normal_distribution<double> n(0.0, noise_m);
+  const SE3 T_world_camera(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, 0.02 * k));
+  const SE3 T_camera_world = T_world_camera.inverse();
+  FrameMeasurement f;
+  f.frame_index = k;
+  for (int i = 0; i < 40; ++i) {
+    const Vec3 l(8.0 * u(layout), 2.0 * u(layout), 20.0 + 10.0 * u(layout));
+    f.static_points.push_back({i, T_camera_world * l + Vec3(n(*rng), n(*rng), n(*rng))});
+  }
+  ObjectObservation o;
+  o.object_id = 3;
+  for (int i = 0; i < 30; ++i) {
+    const Vec3 l(2.0 + u(layout), 0.5 * u(layout), 12.0 + 2.0 * u(layout));
+    o.points.push_back({1000 + i, T_camera_world * (l + object_offset_world) + Vec3(n(*rng), n(*rng), n(*rng))});
+  }
+  f.objects.push_back(o);
+  return f;
+}
+
+TEST(DynamicObjectClassifier, AStaticObjectCarriesTheJitterOfItsPositionAndAStillOneNone) {
+  // A parked object whose position jitters by 2 mm per axis from frame to frame (white), seen through
+  // 5 mm point noise: too little to call it moving, so it is static; the classifier's estimate of its
+  // jitter must come out near 2 mm on average, and near none for an object that does not jitter.
+  for (const double jitter_m : {0.0, 0.002}) {
+    DynamicObjectClassifier c(ClassifierParams{}, 10.0);
+    std::mt19937_64 rng(77);
+    std::normal_distribution<double> n(0.0, jitter_m);
+    double sum_sq = 0.0;
+    int static_frames = 0;
+    FrameMeasurement prev = ParkedObjectFrame(0, Vec3::Zero(), 0.005, &rng);
+    for (int k = 1; k < 200; ++k) {
+      FrameMeasurement curr = ParkedObjectFrame(k, Vec3(n(rng), n(rng), n(rng)), 0.005, &rng);
+      c.label(prev, &curr);
+      const ObjectObservation& o = curr.objects[0];
+      if (o.is_dynamic) {
+        EXPECT_EQ(o.jitter_sigma_m, 0.0) << k;  // only a static object's points serve as structure
+      } else {
+        sum_sq += o.jitter_sigma_m * o.jitter_sigma_m;
+        ++static_frames;
+      }
+      prev = std::move(curr);
+    }
+    ASSERT_GT(static_frames, 100) << jitter_m;
+    const double rms_m = std::sqrt(sum_sq / static_frames);
+    if (jitter_m > 0.0) {
+      EXPECT_GT(rms_m, 0.5 * jitter_m);
+      EXPECT_LT(rms_m, 1.5 * jitter_m);
+    } else {
+      EXPECT_LT(rms_m, 0.0005);
+    }
+  }
+}
+
 TEST(DynamicObjectClassifier, OneWrongFitNeitherHidesAMotionNorMakesOne) {
   const SE3 forward(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, 0.2));  // 2 m/s
   const SE3 backward(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, -0.6));  // a wrong fit, 6 m/s back
