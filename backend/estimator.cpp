@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 #include <stdexcept>
 
 #include "backend/factors/pose_block.h"
@@ -70,9 +71,33 @@ Estimate Estimator::finish() {
     solve.num_threads = params_.num_threads;
     solve.fix_cameras = static_cast<bool>(options_.fixed_T_world_camera);
     SolveGraph(params_, solve, &graph_);
+    batchMotionCovariances();
   }
   flush();
   return std::move(collected_.estimate);
+}
+
+// Frames on each side of a motion whose information gives its covariance in a batch run; the rest of
+// the trajectory is held. The whole trajectory's dense system would not fit a long run, and farther
+// frames barely inform one motion. Held frames inform nothing, so the sigma errs on the wide side.
+constexpr int kBatchCovarianceHalfWindow = 5;
+
+void Estimator::batchMotionCovariances() {
+  std::map<int, std::vector<int>> motions_by_frame;
+  for (const auto& [id, motion] : graph_.motions) motions_by_frame[motion.first_frame].push_back(id);
+  std::map<int, Mat6> covariances;
+  const int last = graph_.numFrames() - 1;
+  for (const auto& [frame, ids] : motions_by_frame) {
+    WindowSolveOptions window;
+    window.first_frame = std::max(0, frame - kBatchCovarianceHalfWindow);
+    window.last_frame = std::min(last, frame + kBatchCovarianceHalfWindow);
+    window.fix_cameras = static_cast<bool>(options_.fixed_T_world_camera);
+    window.covariance_only = true;
+    for (int id : ids) graph_.motions.at(id).covariance.setZero();
+    SolveWindow(params_, window, &graph_);
+    for (int id : ids) covariances[id] = graph_.motions.at(id).covariance;  // later windows overwrite the graph's
+  }
+  for (const auto& [id, covariance] : covariances) graph_.motions.at(id).covariance = covariance;
 }
 
 void Estimator::flush() {

@@ -59,6 +59,7 @@ class Estimator {
 
  private:
   void flush();  // hands everything still in the graph to the sink
+  void batchMotionCovariances();
 
   BackendParams params_;
   double frame_rate_hz_;

@@ -584,6 +584,15 @@ WindowSolveSummary SolveWindow(const BackendParams& params, const WindowSolveOpt
 
   double cost = problem.cost();
   summary.initial_cost = summary.final_cost = cost;
+  if (options.covariance_only) {
+    Eigen::VectorXd dx;
+    std::vector<Vec3> dp;
+    // A whisper of damping: on a batch graph the motions at the window's first frame have lost the
+    // information of their points' previous frame, and those of an object leaving there have none.
+    if (problem.computeStep(1e-9, &dx, &dp))
+      for (const auto& [id, covariance] : problem.motionCovariances()) graph->motions.at(id).covariance = covariance;
+    return summary;
+  }
   double lambda = 1e-4;  // as Ceres' default initial trust region (radius 1e4)
   Eigen::VectorXd dx;
   std::vector<Vec3> dp;

@@ -26,6 +26,9 @@ struct WindowSolveOptions {
   // After the solve, each motion's marginal covariance (MotionVariable::covariance) from the window's
   // information, read from the last step's factorisation (no extra linearisation).
   bool motion_covariance = true;
+  // Take no step: only the motions' covariances at the current estimate (the batch schedule's, after
+  // its own solve).
+  bool covariance_only = false;
 };
 
 struct WindowSolveSummary {
