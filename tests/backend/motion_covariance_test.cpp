@@ -71,23 +71,25 @@ Calibration SpeedCalibration(const std::string& schedule, int num_frames) {
   return c;
 }
 
+// A Gaussian: 68 % and 99.7 %. Neither far overconfident nor uselessly wide.
+void ExpectCalibrated(const Calibration& c) {
+  EXPECT_GT(c.within_1, 0.5);
+  EXPECT_LT(c.within_1, 0.85);
+  EXPECT_GT(c.within_3, 0.9);
+}
+
 TEST(MotionCovariance, TheSpeedSigmaOfTheSlidingWindowIsCalibratedOnTheSimulatedCity) {
   // One cycle of the city: accelerating, braking, turning and stopping cars.
   const Calibration c = SpeedCalibration("window:10", 300);
   ASSERT_GT(c.pairs, 300);
-  // A Gaussian: 68 % and 99.7 %. Neither far overconfident nor uselessly wide.
-  EXPECT_GT(c.within_1, 0.5);
-  EXPECT_LT(c.within_1, 0.85);
-  EXPECT_GT(c.within_3, 0.9);
+  ExpectCalibrated(c);
 }
 
 TEST(MotionCovariance, TheSpeedSigmaOfTheBatchIsCalibratedOnTheSimulatedCity) {
   // Batch: from the frames around each motion (the rest held), after the whole trajectory's solve.
   const Calibration c = SpeedCalibration("batch", 80);
   ASSERT_GT(c.pairs, 150);
-  EXPECT_GT(c.within_1, 0.5);
-  EXPECT_LT(c.within_1, 0.85);
-  EXPECT_GT(c.within_3, 0.9);
+  ExpectCalibrated(c);
 }
 
 }  // namespace
