@@ -42,7 +42,7 @@ struct ObjectObservation {
   // but is reported standing, with speed 0; an object whose motion is not yet supported (entering the
   // view, back from an occlusion) is estimated but its motion is not reported at all.
   ReportedMotion reported = ReportedMotion::kMoving;
-  // Per-axis sigma of a static object's frame-to-frame jitter, m, which all its points share (the
+  // Per-axis sigma of the jitter of a static object's position, m, which all its points share (the
   // classifier's estimate; 0 when none is seen). A replayed or rendered KITTI label moves a parked car by
   // centimetres a frame: too little to call it moving, but its points err together, so as static
   // structure they weigh as one landmark with this sigma, not as many independent ones.

@@ -35,8 +35,8 @@ constexpr double kMinDisplacementSigmaM = 1e-3;
 // its positions (the displacements summed from the first), less what the point and camera noise give.
 // Labels jitter slowly as well as from frame to frame, so the positions' spread, not the displacements'
 // size, tells how far a point of the object strays from where the map holds it. A still object's spread
-// passes twice the noise's in under 5 % of windows (chi-square, 6 to 15 degrees of freedom); below that
-// no jitter is seen, so the noise alone does not widen a truly parked car's points.
+// passes twice the noise's in at most 6 % of windows (chi-square, 6 to 15 degrees of freedom); below
+// that no jitter is seen, so the noise alone does not widen a truly parked car's points.
 double JitterSigma(const std::deque<Vec3>& displacement, const std::deque<double>& variance_m2, int n) {
   n = std::min<int>(n, static_cast<int>(displacement.size()));
   if (n <= 0) return 0.0;
