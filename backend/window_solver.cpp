@@ -471,7 +471,7 @@ class WindowProblem {
         b->segment<6>(6 * blocks[a]) += Ja.transpose() * r;
         diag->segment<6>(6 * blocks[a]) += Ja.colwise().squaredNorm().transpose();
         for (int c = 0; c < 2; ++c) {
-          if (blocks[c] < 0 || blocks[c] < blocks[a]) continue;  // upper blocks only
+          if (blocks[c] < blocks[a]) continue;  // upper blocks only (blocks[a] >= 0 here)
           const Mat6 Jc = c == 0 ? Mat6(J.leftCols<6>()) : Mat6(J.rightCols<6>());
           S->block<6, 6>(6 * blocks[a], 6 * blocks[c]) += Ja.transpose() * Jc;
         }
@@ -573,6 +573,11 @@ class WindowProblem {
   std::vector<std::array<double, 3>> saved_points_;
 };
 
+// Each motion's marginal covariance from the problem's last step into the graph.
+void StoreMotionCovariances(const WindowProblem& problem, FactorGraph* graph) {
+  for (const auto& [id, covariance] : problem.motionCovariances()) graph->motions.at(id).covariance = covariance;
+}
+
 }  // namespace
 
 WindowSolveSummary SolveWindow(const BackendParams& params, const WindowSolveOptions& options, FactorGraph* graph) {
@@ -589,8 +594,7 @@ WindowSolveSummary SolveWindow(const BackendParams& params, const WindowSolveOpt
     std::vector<Vec3> dp;
     // A whisper of damping: on a batch graph the motions at the window's first frame have lost the
     // information of their points' previous frame, and those of an object leaving there have none.
-    if (problem.computeStep(1e-9, &dx, &dp))
-      for (const auto& [id, covariance] : problem.motionCovariances()) graph->motions.at(id).covariance = covariance;
+    if (problem.computeStep(1e-9, &dx, &dp)) StoreMotionCovariances(problem, graph);
     return summary;
   }
   double lambda = 1e-4;  // as Ceres' default initial trust region (radius 1e4)
@@ -616,8 +620,7 @@ WindowSolveSummary SolveWindow(const BackendParams& params, const WindowSolveOpt
     if (decrease < options.function_tolerance) break;
   }
   summary.final_cost = cost;
-  if (options.motion_covariance)
-    for (const auto& [id, covariance] : problem.motionCovariances()) graph->motions.at(id).covariance = covariance;
+  if (options.motion_covariance) StoreMotionCovariances(problem, graph);
   return summary;
 }
 
