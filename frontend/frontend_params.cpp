@@ -11,6 +11,7 @@ void FrontendParams::validate() const {
   object_grid.validate();
   association.validate();
   pnp.validate();
+  warped_search.validate();
   if (!(odometry_gate_chi2 > 0.0) || !std::isfinite(odometry_gate_chi2))
     throw std::invalid_argument("frontend odometry_gate_chi2 must be a positive finite number");
   if (!(object_max_acceleration_mps2 > 0.0)) throw std::invalid_argument("frontend object_max_acceleration_mps2 must be positive");

@@ -6,6 +6,7 @@
 #include "frontend/feature_detector.h"
 #include "frontend/flow_tracker.h"
 #include "frontend/object_association.h"
+#include "frontend/warped_patch_search.h"
 #include "geometry/rigid_alignment.h"
 
 namespace dslam {
@@ -35,6 +36,9 @@ struct FrontendParams {
   // the moving camera's frame, so the bound also absorbs the camera's own turning: 4 g rejects only
   // fits that are clearly wrong (15 m/s^2 also rejected good fits of oncoming cars on KITTI 0005).
   double object_max_acceleration_mps2 = 40.0;
+  // Tracks of an object with a confirmed motion that the flow lost are searched for as their
+  // neighbourhood would look after the predicted motion (frontend/warped_patch_search.h).
+  WarpedSearchParams warped_search;
   double frame_interval_s = 0.1;  // set from the dataset's frame rate
 
   void validate() const;

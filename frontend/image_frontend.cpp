@@ -8,12 +8,15 @@
 #include <opencv2/imgproc.hpp>
 
 #include "frontend/mask_box_prediction.h"
+#include "frontend/warped_patch_search.h"
 
 namespace dslam {
 namespace {
 
 // An object's last motion still predicts its flow this many frames later (a short occlusion).
 constexpr int kObjectMotionMemoryFrames = 5;
+// Consecutive consistent fits that make an object's motion memory trusted (see acceptObjectMotion).
+constexpr int kConfirmedFits = 2;
 
 // Instance labels as CV_32SC1 (negative ids, as Mask R-CNN's "-1 = none", become background).
 cv::Mat ToLabels(const cv::Mat& instance_ids, const cv::Size& size) {
@@ -70,7 +73,7 @@ struct ImageFrontend::Snapshot {
   std::map<int, cv::Rect> prev_label_boxes;
   std::optional<SE3> last_camera_motion;
   std::map<int, ObjectMotionMemory> last_object_motion;
-  cv::Mat prev_gray, prev_flow_to_next;  // headers: process() replaces them, never writes into them
+  cv::Mat prev_gray, prev_depth, prev_flow_to_next;  // headers: process() replaces them, never writes into them
   std::optional<int> prev_frame_index;
   int64_t next_track_id = 1;
   ObjectAssociator associator;
@@ -78,8 +81,8 @@ struct ImageFrontend::Snapshot {
 };
 
 ImageFrontend::Snapshot ImageFrontend::save() const {
-  return {tracks_,           prev_label_boxes_,   last_camera_motion_, last_object_motion_, prev_gray_,
-          prev_flow_to_next_, prev_frame_index_, next_track_id_,       associator_,         stats_};
+  return {tracks_,     prev_label_boxes_,  last_camera_motion_, last_object_motion_, prev_gray_,    prev_depth_,
+          prev_flow_to_next_, prev_frame_index_, next_track_id_, associator_,     stats_};
 }
 
 void ImageFrontend::restore(Snapshot&& s) {
@@ -88,6 +91,7 @@ void ImageFrontend::restore(Snapshot&& s) {
   last_camera_motion_ = s.last_camera_motion;
   last_object_motion_ = std::move(s.last_object_motion);
   prev_gray_ = s.prev_gray;
+  prev_depth_ = s.prev_depth;
   prev_flow_to_next_ = s.prev_flow_to_next;
   prev_frame_index_ = s.prev_frame_index;
   next_track_id_ = s.next_track_id;
@@ -172,9 +176,12 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
       prev_px.push_back(t.px);
       if (t.object_id != 0) ++stats.object_counts[t.object_id].previous;
     }
-    const PixelPrediction prediction = predictPixels(frame.odometry, label_boxes);
+    const std::optional<SE3> camera_motion =
+        frame.odometry ? std::optional<SE3>(frame.odometry->T_prev_curr) : last_camera_motion_;
+    const PixelPrediction prediction = predictPixels(camera_motion, label_boxes);
     FlowResult flow = flow_.track(prev_gray_, gray, prev_px, prev_flow_to_next_, prediction.px);
     resolveStillHypothesis(gray, prev_px, prediction, &flow, &stats.ambiguous);
+    reacquireWarped(gray, camera_motion, &flow, &stats);
     std::vector<float> fb;
     for (size_t i = 0; i < tracks_.size(); ++i) {
       // A point that its box takes out of view is gone: on a repetitive texture the flow search still
@@ -333,6 +340,7 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
   for (auto it = last_object_motion_.begin(); it != last_object_motion_.end();)
     it = frame.frame_index - it->second.frame_index > kObjectMotionMemoryFrames ? last_object_motion_.erase(it) : ++it;
   prev_gray_ = gray;
+  prev_depth_ = depth;
   prev_flow_to_next_ = frame.flow_to_next;
   prev_frame_index_ = frame.frame_index;
   stats_ = stats;
@@ -358,10 +366,10 @@ std::optional<bool> ImageFrontend::withinAccelerationBound(int object_id, const 
 
 bool ImageFrontend::acceptObjectMotion(int object_id, const SE3& motion, const std::vector<Vec3>& p_prev,
                                        const std::vector<bool>& inlier, int frame_index) {
-  constexpr int kConfirmed = 2, kMaxRejections = 3;
+  constexpr int kMaxRejections = 3;
   const std::optional<bool> within = withinAccelerationBound(object_id, motion, p_prev, inlier);
   auto memory = last_object_motion_.find(object_id);
-  if (within == false && memory->second.confirmations >= kConfirmed) {
+  if (within == false && memory->second.confirmations >= kConfirmedFits) {
     if (++memory->second.rejections >= kMaxRejections) last_object_motion_.erase(memory);
     return false;
   }
@@ -370,9 +378,8 @@ bool ImageFrontend::acceptObjectMotion(int object_id, const SE3& motion, const s
   return true;
 }
 
-ImageFrontend::PixelPrediction ImageFrontend::predictPixels(const std::optional<OdometryMeasurement>& odometry,
+ImageFrontend::PixelPrediction ImageFrontend::predictPixels(const std::optional<SE3>& camera,
                                                            const std::map<int, cv::Rect>& label_boxes) const {
-  const std::optional<SE3> camera = odometry ? std::optional<SE3>(odometry->T_prev_curr) : last_camera_motion_;
   const SE3 T_curr_prev = camera.value_or(SE3()).inverse();
   PixelPrediction prediction;
   prediction.px.reserve(tracks_.size());
@@ -412,6 +419,63 @@ ImageFrontend::PixelPrediction ImageFrontend::predictPixels(const std::optional<
     prediction.px_if_still.clear();
   }
   return prediction;
+}
+
+void ImageFrontend::reacquireWarped(const cv::Mat& gray, const std::optional<SE3>& camera_motion, FlowResult* flow,
+                                    FrontendFrameStats* stats) const {
+  if (params_.flow.method != FlowMethod::kLucasKanade || params_.warped_search.radius_px == 0 || !camera_motion ||
+      prev_depth_.empty())
+    return;
+  // Neighbours this far from a point give the local map; one deeper or shallower by more than the
+  // jump is across an edge, and the point's own depth stands in for it (a fronto-parallel patch).
+  constexpr float kStepPx = 3.0f;
+  constexpr double kDepthJumpM = 0.5;
+  const SE3 T_curr_prev = camera_motion->inverse();
+  std::vector<WarpedPatchRequest> requests;
+  std::vector<size_t> index;
+  for (size_t i = 0; i < tracks_.size(); ++i) {
+    const Track& t = tracks_[i];
+    if (t.object_id == 0) continue;
+    const auto memory = last_object_motion_.find(t.object_id);
+    if (memory == last_object_motion_.end() || memory->second.confirmations < kConfirmedFits) continue;
+    const SE3 T_curr_prev_object = T_curr_prev * memory->second.motion;
+    bool valid = true;
+    const auto predict = [&](const Vec3& p_prev) {
+      const Vec3 p = T_curr_prev_object * p_prev;
+      if (!(p.z() > 0.1)) valid = false;
+      const Vec2 uv = camera_.project(p);
+      return cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
+    };
+    const auto neighbour = [&](float du, float dv) {
+      const cv::Point2f px(t.px.x + du, t.px.y + dv);
+      const float z = DepthAt(prev_depth_, px);
+      const double depth = z > 0.0f && std::abs(z - t.p_camera.z()) < kDepthJumpM ? z : t.p_camera.z();
+      return predict(camera_.backProject(px.x, px.y, depth));
+    };
+    const cv::Point2f px = predict(t.p_camera);
+    if (!valid || !(px.x >= 0 && px.y >= 0 && px.x <= camera_.width - 1 && px.y <= camera_.height - 1)) continue;
+    // A flow match near the prediction stands. One farther than the search reaches (the flow wandered
+    // off a stretched patch onto a look-alike) is searched for like a lost one, and replaced if found.
+    if (flow->ok[i] && cv::norm(flow->points[i] - px) <= params_.warped_search.radius_px) continue;
+    const cv::Point2f du = (neighbour(kStepPx, 0) - neighbour(-kStepPx, 0)) / (2.0f * kStepPx);
+    const cv::Point2f dv = (neighbour(0, kStepPx) - neighbour(0, -kStepPx)) / (2.0f * kStepPx);
+    // The flow models a neighbourhood that keeps its shape, so it lost such a track for another reason
+    // (an occlusion, a contour): matches found for those made the speeds worse, not better.
+    const float deformation = std::max({std::abs(du.x - 1.0f), std::abs(dv.y - 1.0f), std::abs(du.y), std::abs(dv.x)});
+    if (!valid || deformation < params_.warped_search.min_deformation) continue;
+    requests.push_back({t.px, px, cv::Matx22f(du.x, dv.x, du.y, dv.y)});
+    index.push_back(i);
+  }
+  if (requests.empty()) return;
+  const std::vector<WarpedPatchMatch> found = SearchWarpedPatches(prev_gray_, gray, requests, params_.warped_search);
+  for (size_t j = 0; j < found.size(); ++j) {
+    if (!found[j].ok) continue;
+    const size_t i = index[j];
+    flow->ok[i] = 1;
+    flow->points[i] = found[j].px;
+    flow->fb_error_px[i] = 0.0f;  // no backward pass: the match's strength and uniqueness stand for it
+    ++stats->object_counts[tracks_[i].object_id].reacquired;
+  }
 }
 
 void ImageFrontend::dropLeavingTracks(int object_id, const SE3& T_prev_curr, const std::vector<Track>& kept,

@@ -41,7 +41,8 @@ struct FrontendFrameStats {
   std::vector<int> mask_labels;     // instance labels at least min_mask_area_pct of the image
   struct ObjectCounts {
     int previous = 0;  // its tracks at the end of the previous frame: the tracks that could survive
-    int flowed = 0;   // points the flow carried into this frame (forward-backward consistent)
+    int flowed = 0;   // points the flow carried into this frame (forward-backward consistent, or re-found)
+    int reacquired = 0;  // of those, points the warped search found where the flow lost them or wandered off
     int tracked = 0;  // points carried over from the previous frame (after the mask, depth and RANSAC checks)
     int added = 0;    // new points
     bool measured = false;  // in the measurement (enough points, within range)
@@ -118,8 +119,14 @@ class ImageFrontend {
   // Ended tracks are counted in `ambiguous`.
   void resolveStillHypothesis(const cv::Mat& gray, const std::vector<cv::Point2f>& prev_px,
                               const PixelPrediction& prediction, FlowResult* flow, int* ambiguous);
-  PixelPrediction predictPixels(const std::optional<OdometryMeasurement>& odometry,
+  PixelPrediction predictPixels(const std::optional<SE3>& camera_motion,
                                 const std::map<int, cv::Rect>& label_boxes) const;
+  // Tracks of an object with a confirmed motion that the flow lost, or matched far from where that
+  // motion puts them, are searched for around their predicted pixel with their previous patch warped by
+  // the predicted 3D motion (SearchWarpedPatches), where that motion deforms the patch: a car passing
+  // close by shows a side that stretches and shears from frame to frame. Those found rejoin `flow`.
+  void reacquireWarped(const cv::Mat& gray, const std::optional<SE3>& camera_motion, FlowResult* flow,
+                       FrontendFrameStats* stats) const;
 
   FrameMeasurement processUncommitted(const ImageFrame& frame);
 
@@ -138,7 +145,7 @@ class ImageFrontend {
   std::map<int, cv::Rect> prev_label_boxes_;  // mask label -> bounding box in the previous frame
   std::optional<SE3> last_camera_motion_;       // T_prev_curr of the last transition
   std::map<int, ObjectMotionMemory> last_object_motion_;  // kept a few frames across occlusions
-  cv::Mat prev_gray_, prev_flow_to_next_;
+  cv::Mat prev_gray_, prev_depth_, prev_flow_to_next_;
   std::optional<int> prev_frame_index_;
   int64_t next_track_id_ = 1;
   FrontendFrameStats stats_;

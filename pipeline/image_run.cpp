@@ -27,16 +27,16 @@ class FrontendRecorder {
     if (frame_log_) {
       if (k == 0)
         *frame_log_ << "frame,object_id,flowed,tracked,added,measured,motion_rejected,pnp_inliers,median_fb_px,"
-                       "odometry_rejected,previous,survival\n";
+                       "odometry_rejected,previous,survival,reacquired\n";
       *frame_log_ << k << ",0,-1," << st.static_tracked << ',' << st.static_new << ",1,0," << st.pnp_inliers << ','
-                  << st.median_fb_error_px << ',' << (st.odometry_rejected ? 1 : 0) << ",,\n";
+                  << st.median_fb_error_px << ',' << (st.odometry_rejected ? 1 : 0) << ",,,\n";
       for (const auto& [id, c] : st.object_counts) {
         *frame_log_ << k << ',' << id << ',' << c.flowed << ',' << c.tracked << ',' << c.added << ','
                     << (c.measured ? 1 : 0) << ',' << (c.motion_rejected ? 1 : 0) << ',' << st.pnp_inliers << ','
                     << st.median_fb_error_px << ',' << (st.odometry_rejected ? 1 : 0) << ',' << c.previous << ',';
         // The share of its tracks that lived on into this frame (blank for an object new in it).
         if (c.previous > 0) *frame_log_ << static_cast<double>(c.tracked) / c.previous;
-        *frame_log_ << '\n';
+        *frame_log_ << ',' << c.reacquired << '\n';
       }
       frame_log_->flush();  // whole rows only, should the run be stopped
     }

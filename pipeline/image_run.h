@@ -29,7 +29,7 @@ struct ImageRunSummary {
 // max_frames <= 0: the whole dataset. Throws std::runtime_error naming the frame and file on bad input.
 // `frame_log`, when given, receives one CSV row per frame and object (object_id 0: the background, flowed -1):
 // frame,object_id,flowed,tracked,added,measured,motion_rejected,pnp_inliers,median_fb_px,odometry_rejected,
-// previous,survival
+// previous,survival,reacquired
 // (see FrontendFrameStats::ObjectCounts).
 // With `ours`, the stages run in parallel (pipeline/staged_pipeline.h): this thread reads and decodes the
 // files, the front-end and ours' back-end each run on their own thread, and `ours` receives ours' result

@@ -66,7 +66,7 @@ TEST(RunSigkill, LeavesEveryFrameThatLeftTheWindowOnDisk) {
   const std::string log = test::ReadFile(killed + "/frontend.csv");
   ASSERT_FALSE(log.empty());
   EXPECT_EQ(log.back(), '\n');
-  for (const std::string& row : Lines(killed + "/frontend.csv")) EXPECT_EQ(std::count(row.begin(), row.end(), ','), 11) << row;
+  for (const std::string& row : Lines(killed + "/frontend.csv")) EXPECT_EQ(std::count(row.begin(), row.end(), ','), 12) << row;
 }
 
 }  // namespace

@@ -21,6 +21,9 @@ TEST(ConfigYaml, RoundTripKeepsEveryValue) {
   c.classifier.dynamic_speed_threshold_mps = 0.8;
   c.classifier.min_static_transitions = 3;
   c.backend.linear_solver = LinearSolver::kSchur;
+  c.frontend.warped_search.radius_px = 31;
+  c.frontend.warped_search.min_ncc = 0.9;
+  c.frontend.warped_search.min_deformation = 0.2;
   const RunConfig back = ParseRunConfig(RunConfigToYaml(c));
   EXPECT_EQ(back.backend.default_mode, MotionMode::kSmoothed);
   EXPECT_EQ(back.backend.slam_mot_mode, MotionMode::kConstant);
@@ -37,6 +40,9 @@ TEST(ConfigYaml, RoundTripKeepsEveryValue) {
   EXPECT_EQ(back.classifier.dynamic_speed_threshold_mps, 0.8);
   EXPECT_EQ(back.classifier.min_static_transitions, 3);
   EXPECT_EQ(back.backend.linear_solver, LinearSolver::kSchur);
+  EXPECT_EQ(back.frontend.warped_search.radius_px, 31);
+  EXPECT_EQ(back.frontend.warped_search.min_ncc, 0.9);
+  EXPECT_EQ(back.frontend.warped_search.min_deformation, 0.2);
   EXPECT_EQ(RunConfigToYaml(back), RunConfigToYaml(c));
 }
 
@@ -73,6 +79,8 @@ TEST(ConfigYaml, BadInputIsAClearError) {
   ExpectError("frontend:\n  lk_window_px: 100000\n", "lk_window_px must be in 5..201");
   ExpectError("dataset:\n  lidar_fill_radius_px: 1000000\n", "lidar_fill_radius_px must be in 0..50");
   ExpectError("frontend:\n  odometry_gate_chi2: -1\n", "odometry_gate_chi2");
+  ExpectError("frontend:\n  warped_search_radius_px: 500\n", "warped_search_radius_px must be in 0..200");
+  ExpectError("frontend:\n  warped_search_min_ncc: 1.5\n", "warped_search_min_ncc");
 }
 
 TEST(ConfigYaml, MissingFileIsAnError) {
