@@ -13,6 +13,8 @@ namespace {
 constexpr double kMaxAreaChange = 16.0;
 // A template flatter than this (grey-level standard deviation) correlates with anything.
 constexpr double kMinTemplateStd = 3.0;
+constexpr double kRadiusPerMove = 0.2;
+constexpr int kMaxRadiusPx = 64;
 // The refinement's patch is this much larger than the template on each side, and may move the peak by
 // at most this much.
 constexpr int kRefineMarginPx = 8;
@@ -50,7 +52,11 @@ WarpedPatchMatch SearchOne(const cv::Mat& prev_gray, const cv::Mat& curr_gray, c
 
   const int cu = static_cast<int>(std::lround(request.predicted_px.x));
   const int cv_ = static_cast<int>(std::lround(request.predicted_px.y));
-  const int reach = params.radius_px + h;
+  // A motion model a few percent off puts a point that moves far that much farther off: the search
+  // reaches a fifth of the predicted move when that is more than the radius.
+  const double move_px = cv::norm(request.predicted_px - request.prev_px);
+  const int radius = std::max(params.radius_px, std::min(kMaxRadiusPx, static_cast<int>(std::ceil(kRadiusPerMove * move_px))));
+  const int reach = radius + h;
   const cv::Rect area = cv::Rect(cu - reach, cv_ - reach, 2 * reach + 1, 2 * reach + 1) &
                         cv::Rect(0, 0, curr_gray.cols, curr_gray.rows);
   if (area.width < size + 2 || area.height < size + 2) return {};

@@ -69,6 +69,32 @@ TEST(WarpedPatchSearch, FindsPointsOnAStretchedAndShearedPatchThatTheFlowLoses) 
   EXPECT_LT(lk_good, 0.5 * points.size());  // 0 to 6 of 42
 }
 
+TEST(WarpedPatchSearch, ReachesFartherFromThePredictionOfALargerMove) {
+  // The same stretch and shear, moved 250 px: a motion model a few percent off misses by more than the
+  // radius, and the search reaches a fifth of the move.
+  const cv::Mat prev = test::RandomTexture(900, 240, 34);
+  const cv::Matx23f to_curr(kA(0, 0), kA(0, 1), 250.f - 200.f * (kA(0, 0) - 1.f), kA(1, 0), kA(1, 1), -kA(1, 0) * 200.f);
+  cv::Mat curr;
+  cv::warpAffine(prev, curr, to_curr, prev.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
+  WarpedSearchParams params;
+  const cv::Point2f miss(params.radius_px + 12.f, 0.f);  // 36 px: beyond the radius, within a fifth of 250
+  std::vector<WarpedPatchRequest> requests;
+  std::vector<cv::Point2f> truth;
+  for (const cv::Point2f& p : Points()) {
+    const cv::Vec3f q(p.x, p.y, 1.f);
+    truth.emplace_back(to_curr.row(0).dot(cv::Matx13f(q[0], q[1], q[2])), to_curr.row(1).dot(cv::Matx13f(q[0], q[1], q[2])));
+    requests.push_back({p, truth.back() + miss, kA});
+  }
+  const std::vector<WarpedPatchMatch> found = SearchWarpedPatches(prev, curr, requests, params);
+  int good = 0;
+  for (size_t i = 0; i < found.size(); ++i) {
+    if (!found[i].ok) continue;
+    EXPECT_LT(cv::norm(found[i].px - truth[i]), 0.15) << i;
+    ++good;
+  }
+  EXPECT_GE(good, 0.8 * requests.size());
+}
+
 TEST(WarpedPatchSearch, LeavesLostWhatItCannotTellApart) {
   const cv::Mat prev = test::RandomTexture(400, 240, 32);
   const cv::Mat curr = Warped(prev);
