@@ -36,8 +36,8 @@ struct FrontendParams {
   // the moving camera's frame, so the bound also absorbs the camera's own turning: 4 g rejects only
   // fits that are clearly wrong (15 m/s^2 also rejected good fits of oncoming cars on KITTI 0005).
   double object_max_acceleration_mps2 = 40.0;
-  // Tracks of an object with a confirmed motion that the flow lost are searched for as their
-  // neighbourhood would look after the predicted motion (frontend/warped_patch_search.h).
+  // Tracks of an object with a confirmed motion that deforms their neighbourhood are searched for as it
+  // would look after that motion (frontend/warped_patch_search.h, ImageFrontend::reacquireWarped).
   WarpedSearchParams warped_search;
   double frame_interval_s = 0.1;  // set from the dataset's frame rate
 

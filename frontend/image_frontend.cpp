@@ -454,13 +454,13 @@ void ImageFrontend::reacquireWarped(const cv::Mat& gray, const std::optional<SE3
     };
     const cv::Point2f px = predict(t.p_camera);
     if (!valid || !(px.x >= 0 && px.y >= 0 && px.x <= camera_.width - 1 && px.y <= camera_.height - 1)) continue;
-    // A flow match near the prediction stands. One farther than the search reaches (the flow wandered
-    // off a stretched patch onto a look-alike) is searched for like a lost one, and replaced if found.
-    if (flow->ok[i] && cv::norm(flow->points[i] - px) <= params_.warped_search.radius_px) continue;
     const cv::Point2f du = (neighbour(kStepPx, 0) - neighbour(-kStepPx, 0)) / (2.0f * kStepPx);
     const cv::Point2f dv = (neighbour(0, kStepPx) - neighbour(0, -kStepPx)) / (2.0f * kStepPx);
-    // The flow models a neighbourhood that keeps its shape, so it lost such a track for another reason
-    // (an occlusion, a contour): matches found for those made the speeds worse, not better.
+    // The flow models a neighbourhood that keeps its shape: where it lost such a track it was for another
+    // reason (an occlusion, a contour), and matches found for those made the speeds worse, not better.
+    // Where the patch deforms, the search decides even if the flow found a match: that match may be a
+    // look-alike the flow slid onto (rendered 0005: on the pairs estimated either way, the speed error
+    // fell from 0.31 to 0.28 %).
     const float deformation = std::max({std::abs(du.x - 1.0f), std::abs(dv.y - 1.0f), std::abs(du.y), std::abs(dv.x)});
     if (!valid || deformation < params_.warped_search.min_deformation) continue;
     requests.push_back({t.px, px, cv::Matx22f(du.x, dv.x, du.y, dv.y)});

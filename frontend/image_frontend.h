@@ -42,7 +42,7 @@ struct FrontendFrameStats {
   struct ObjectCounts {
     int previous = 0;  // its tracks at the end of the previous frame: the tracks that could survive
     int flowed = 0;   // points the flow carried into this frame (forward-backward consistent, or re-found)
-    int reacquired = 0;  // of those, points the warped search found where the flow lost them or wandered off
+    int reacquired = 0;  // of those, points the warped search placed (the flow lost them, or it corrected them)
     int tracked = 0;  // points carried over from the previous frame (after the mask, depth and RANSAC checks)
     int added = 0;    // new points
     bool measured = false;  // in the measurement (enough points, within range)
@@ -121,10 +121,10 @@ class ImageFrontend {
                               const PixelPrediction& prediction, FlowResult* flow, int* ambiguous);
   PixelPrediction predictPixels(const std::optional<SE3>& camera_motion,
                                 const std::map<int, cv::Rect>& label_boxes) const;
-  // Tracks of an object with a confirmed motion that the flow lost, or matched far from where that
-  // motion puts them, are searched for around their predicted pixel with their previous patch warped by
-  // the predicted 3D motion (SearchWarpedPatches), where that motion deforms the patch: a car passing
-  // close by shows a side that stretches and shears from frame to frame. Those found rejoin `flow`.
+  // Tracks of an object with a confirmed motion, where that motion deforms their patch (a car passing
+  // close by shows a side that stretches and shears from frame to frame), are searched for around their
+  // predicted pixel with their previous patch warped by the motion (SearchWarpedPatches). A match found
+  // replaces the flow's, or takes the place of a track the flow lost.
   void reacquireWarped(const cv::Mat& gray, const std::optional<SE3>& camera_motion, FlowResult* flow,
                        FrontendFrameStats* stats) const;
 
