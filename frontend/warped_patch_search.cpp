@@ -13,6 +13,7 @@ namespace {
 constexpr double kMaxAreaChange = 16.0;
 // A template flatter than this (grey-level standard deviation) correlates with anything.
 constexpr double kMinTemplateStd = 3.0;
+// The search reaches this share of the predicted move when that is more than its radius, up to this far.
 constexpr double kRadiusPerMove = 0.2;
 constexpr int kMaxRadiusPx = 64;
 // The refinement's patch is this much larger than the template on each side, and may move the peak by
@@ -25,6 +26,18 @@ float PeakOffset(float left, float centre, float right) {
   const float curvature = left - 2.f * centre + right;
   if (!(curvature < 0.f)) return 0.f;
   return std::max(-0.5f, std::min(0.5f, 0.5f * (left - right) / curvature));
+}
+
+// The (2 half + 1) px square patch whose pixel (x, y) shows the previous image at
+// prev_px + A^-1 ((x, y) - (half, half)): the previous neighbourhood as the current frame would show it.
+cv::Mat WarpedPatch(const cv::Mat& prev_gray, const cv::Point2f& prev_px, const cv::Matx22f& A_inv, int half) {
+  const cv::Vec2f shift =
+      cv::Vec2f(prev_px.x, prev_px.y) - A_inv * cv::Vec2f(static_cast<float>(half), static_cast<float>(half));
+  const cv::Matx23f to_prev(A_inv(0, 0), A_inv(0, 1), shift[0], A_inv(1, 0), A_inv(1, 1), shift[1]);
+  cv::Mat patch;
+  cv::warpAffine(prev_gray, patch, to_prev, cv::Size(2 * half + 1, 2 * half + 1),
+                 cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REPLICATE);
+  return patch;
 }
 
 WarpedPatchMatch SearchOne(const cv::Mat& prev_gray, const cv::Mat& curr_gray, const WarpedPatchRequest& request,
@@ -40,12 +53,7 @@ WarpedPatchMatch SearchOne(const cv::Mat& prev_gray, const cv::Mat& curr_gray, c
       const float u = request.prev_px.x + d[0], v = request.prev_px.y + d[1];
       if (!(u >= 0.f && v >= 0.f && u <= prev_gray.cols - 1.f && v <= prev_gray.rows - 1.f)) return {};
     }
-  // Template pixel (x, y) shows the previous image at prev_px + A^-1 ((x, y) - (h, h)).
-  const cv::Vec2f shift = cv::Vec2f(request.prev_px.x, request.prev_px.y) - A_inv * cv::Vec2f(static_cast<float>(h), static_cast<float>(h));
-  const cv::Matx23f to_prev(A_inv(0, 0), A_inv(0, 1), shift[0], A_inv(1, 0), A_inv(1, 1), shift[1]);
-  cv::Mat patch;
-  cv::warpAffine(prev_gray, patch, to_prev, cv::Size(size, size), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
-                 cv::BORDER_REPLICATE);
+  const cv::Mat patch = WarpedPatch(prev_gray, request.prev_px, A_inv, h);
   cv::Scalar mean, stddev;
   cv::meanStdDev(patch, mean, stddev);
   if (stddev[0] < kMinTemplateStd) return {};
@@ -55,7 +63,8 @@ WarpedPatchMatch SearchOne(const cv::Mat& prev_gray, const cv::Mat& curr_gray, c
   // A motion model a few percent off puts a point that moves far that much farther off: the search
   // reaches a fifth of the predicted move when that is more than the radius.
   const double move_px = cv::norm(request.predicted_px - request.prev_px);
-  const int radius = std::max(params.radius_px, std::min(kMaxRadiusPx, static_cast<int>(std::ceil(kRadiusPerMove * move_px))));
+  const int radius =
+      std::max(params.radius_px, std::min(kMaxRadiusPx, static_cast<int>(std::ceil(kRadiusPerMove * move_px))));
   const int reach = radius + h;
   const cv::Rect area = cv::Rect(cu - reach, cv_ - reach, 2 * reach + 1, 2 * reach + 1) &
                         cv::Rect(0, 0, curr_gray.cols, curr_gray.rows);
@@ -88,11 +97,7 @@ WarpedPatchMatch SearchOne(const cv::Mat& prev_gray, const cv::Mat& curr_gray, c
   const int H = h + kRefineMarginPx, big = 2 * H + 1;
   const cv::Rect around(peak.x - H, peak.y - H, big, big);
   if ((around & cv::Rect(0, 0, curr_gray.cols, curr_gray.rows)) != around) return {};
-  const cv::Vec2f big_shift = cv::Vec2f(request.prev_px.x, request.prev_px.y) - A_inv * cv::Vec2f(static_cast<float>(H), static_cast<float>(H));
-  const cv::Matx23f big_to_prev(A_inv(0, 0), A_inv(0, 1), big_shift[0], A_inv(1, 0), A_inv(1, 1), big_shift[1]);
-  cv::Mat big_patch;
-  cv::warpAffine(prev_gray, big_patch, big_to_prev, cv::Size(big, big), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
-                 cv::BORDER_REPLICATE);
+  cv::Mat big_patch = WarpedPatch(prev_gray, request.prev_px, A_inv, H);
   const cv::Point2f start(static_cast<float>(H) + dx, static_cast<float>(H) + dy);
   std::vector<cv::Point2f> from{cv::Point2f(static_cast<float>(H), static_cast<float>(H))}, to{start};
   std::vector<uint8_t> status;
@@ -134,6 +139,7 @@ std::vector<WarpedPatchMatch> SearchWarpedPatches(const cv::Mat& prev_gray, cons
                                                   const WarpedSearchParams& params) {
   if (prev_gray.type() != CV_8UC1 || curr_gray.type() != CV_8UC1 || prev_gray.size() != curr_gray.size())
     throw std::invalid_argument("warped patch search needs two CV_8UC1 images of one size");
+  params.validate();
   std::vector<WarpedPatchMatch> matches(requests.size());
   if (params.radius_px == 0) return matches;
   for (size_t i = 0; i < requests.size(); ++i) matches[i] = SearchOne(prev_gray, curr_gray, requests[i], params);

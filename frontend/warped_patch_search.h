@@ -4,8 +4,9 @@
 // shears while it moves 100-200 px. Given where a motion model puts each point and how it maps the
 // point's neighbourhood (the local affine map of the predicted 3D motion), the previous image's patch
 // is warped into the current frame's geometry and searched for by normalised cross-correlation
-// around the prediction. A match must be strong and unique: on a repetitive texture the second-best
-// peak comes close to the best, and such a point is left lost.
+// around the prediction, then refined by Lucas-Kanade on a larger warped patch, which must correlate as
+// well. A match must be strong and unique: on a repetitive texture the second-best peak comes close to
+// the best, and such a point is left lost.
 
 #include <vector>
 
@@ -19,9 +20,9 @@ struct WarpedSearchParams {
   int half_patch_px = 7;   // the template is (2 half + 1) px square
   double min_ncc = 0.85;   // normalised cross-correlation of an accepted match
   double min_margin = 0.1;  // the best peak must beat every other local maximum by this
-  // Searched only where the predicted motion deforms the neighbourhood by at least this (the largest
-  // entry of A - I: a stretch, squeeze or shear of 30 %); elsewhere Lucas-Kanade's model holds and a
-  // track it lost is lost for another reason (an occlusion, a contour).
+  // The front-end asks for a search only where the predicted motion deforms the neighbourhood by at
+  // least this (the largest entry of A - I: a stretch, squeeze or shear of 30 %); elsewhere
+  // Lucas-Kanade's model holds, and a track it lost is lost for another reason (an occlusion, a contour).
   double min_deformation = 0.3;
   void validate() const;
 };
@@ -38,7 +39,8 @@ struct WarpedPatchMatch {
   float ncc = 0.f;  // of the larger patch at the refined position
 };
 
-// prev_gray, curr_gray: CV_8UC1. One match per request, in order.
+// prev_gray, curr_gray: CV_8UC1 of one size (else std::invalid_argument, as for invalid params). One
+// match per request, in order.
 std::vector<WarpedPatchMatch> SearchWarpedPatches(const cv::Mat& prev_gray, const cv::Mat& curr_gray,
                                                   const std::vector<WarpedPatchRequest>& requests,
                                                   const WarpedSearchParams& params);

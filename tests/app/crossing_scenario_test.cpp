@@ -6,6 +6,7 @@
 #include "output/object_summary.h"
 #include "pipeline/run_sequence.h"
 #include "simulation/scenarios.h"
+#include "support/crossing_checks.h"
 
 namespace dslam {
 namespace {
@@ -34,23 +35,11 @@ TEST(CrossingScenario, CrossingAndOncomingCarsAreEstimatedAndTheStopAndGoCarStan
 
   // Stopped (for the classifier's half-second window): reported standing; moving again, over 1 m/s for
   // as long: reported moving. Parked: never moving.
-  const auto& car = seq.gt.objects.at(kCrossingStopAndGoId).centroid_world;
-  const auto gt_speed = [&](int k) { return (car.at(k) - car.at(k - 1)).norm() * seq.frame_rate_hz; };
-  int stopped = 0, stopped_standing = 0, going = 0, going_moving = 0;
-  for (const ObjectPairSample& s : BuildObjectSamples(seq, ours)) {
-    if (!s.estimated) continue;
-    if (s.object_id >= kCrossingParkedIdBase) {
-      EXPECT_FALSE(s.est_dynamic) << s.object_id << " at " << s.frame;
-    }
-    if (s.object_id != kCrossingStopAndGoId) continue;
-    if (s.frame < 5) continue;
-    if (gt_speed(s.frame) == 0.0 && gt_speed(s.frame - 5) == 0.0) ++stopped, stopped_standing += !s.est_dynamic;
-    if (s.frame > 60 && gt_speed(s.frame) > 1.0 && gt_speed(s.frame - 5) > 1.0) ++going, going_moving += s.est_dynamic;
-  }
-  EXPECT_GE(stopped, 40);
-  EXPECT_EQ(stopped_standing, stopped);
-  EXPECT_GE(going, 30);
-  EXPECT_EQ(going_moving, going);
+  const test::StopAndGoCounts c = test::CheckJunctionObjects(seq, ours);
+  EXPECT_GE(c.stopped, 40);
+  EXPECT_EQ(c.stopped_standing, c.stopped);
+  EXPECT_GE(c.going, 30);
+  EXPECT_EQ(c.going_moving, c.going);
   // The camera pays nothing for the objects.
   EXPECT_LE(outcomes.at(Method::kOurs).metrics.camera.ate_m, 1.02 * outcomes.at(Method::kStaticOnly).metrics.camera.ate_m);
 }

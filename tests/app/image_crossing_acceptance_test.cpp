@@ -13,6 +13,7 @@
 #include "pipeline/image_run.h"
 #include "pipeline/run_sequence.h"
 #include "simulation/scenarios.h"
+#include "support/crossing_checks.h"
 #include "support/no_display.h"
 #include "support/run_defaults.h"
 #include "support/temp_paths.h"
@@ -56,23 +57,11 @@ TEST(RenderedCrossing, CarsCrossingAndOncomingAreTrackedAndTheStopAndGoCarStands
 
   // As in the simulated junction (CrossingScenario): stopped for the classifier's half-second window,
   // reported standing; moving again, reported moving; parked, never moving.
-  const auto& car = images.gt.objects.at(kCrossingStopAndGoId).centroid_world;
-  const auto gt_speed = [&](int k) { return (car.at(k) - car.at(k - 1)).norm() * images.frame_rate_hz; };
-  int stopped = 0, stopped_standing = 0, going = 0, going_moving = 0;
-  for (const ObjectPairSample& s : BuildObjectSamples(images, ours)) {
-    if (!s.estimated) continue;
-    if (s.object_id >= kCrossingParkedIdBase) {
-      EXPECT_FALSE(s.est_dynamic) << s.object_id << " at " << s.frame;
-      EXPECT_LT(s.speed_est_mps, 0.1) << s.object_id << " at " << s.frame;
-    }
-    if (s.object_id != kCrossingStopAndGoId || s.frame < 5) continue;
-    if (gt_speed(s.frame) == 0.0 && gt_speed(s.frame - 5) == 0.0) ++stopped, stopped_standing += !s.est_dynamic;
-    if (s.frame > 60 && gt_speed(s.frame) > 1.0 && gt_speed(s.frame - 5) > 1.0) ++going, going_moving += s.est_dynamic;
-  }
-  EXPECT_GE(stopped, 40);
-  EXPECT_EQ(stopped_standing, stopped);
-  EXPECT_GE(going, 20);
-  EXPECT_EQ(going_moving, going);
+  const test::StopAndGoCounts c = test::CheckJunctionObjects(images, ours);
+  EXPECT_GE(c.stopped, 40);
+  EXPECT_EQ(c.stopped_standing, c.stopped);
+  EXPECT_GE(c.going, 20);
+  EXPECT_EQ(c.going_moving, c.going);
 }
 
 }  // namespace
