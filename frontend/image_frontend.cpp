@@ -359,7 +359,11 @@ std::optional<bool> ImageFrontend::withinAccelerationBound(int object_id, const 
   if (n == 0) return false;
   centroid /= n;
   const double dt = params_.frame_interval_s;
-  const int frames_since = std::max(1, *prev_frame_index_ + 1 - last->second.frame_index);
+  // The motion may have changed for as many frames as passed since it was fitted, less those whose fit it
+  // rejected: a fit judged wrong is no sign that the motion changed, and counting it let the next wrong
+  // fit through (a half-hidden van on rendered 0000, its tracks stuck to the edge of a cyclist in front).
+  const int frames_since =
+      std::max(1, *prev_frame_index_ + 1 - last->second.frame_index - last->second.rejections);
   const double change_m = ((motion * centroid) - (last->second.motion * centroid)).norm();
   return change_m <= params_.object_max_acceleration_mps2 * dt * dt * frames_since;
 }

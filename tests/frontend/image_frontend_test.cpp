@@ -23,7 +23,8 @@ PinholeCamera Camera() {
   return c;
 }
 
-ImageFrame MakeFrame(int k, int mask_label = 1) {
+// `box_jump_px`: the box drawn this much farther right than its steady motion puts it.
+ImageFrame MakeFrame(int k, int mask_label = 1, int box_jump_px = 0) {
   static const cv::Mat wall = test::RandomTexture(kWidth + 200, kHeight, 21);
   static const cv::Mat box = test::RandomTexture(90, 70, 22);
   ImageFrame f;
@@ -33,7 +34,7 @@ ImageFrame MakeFrame(int k, int mask_label = 1) {
   cv::Mat image = wall(cv::Rect(wall_shift, 0, kWidth, kHeight)).clone();
   f.depth_m = cv::Mat(kHeight, kWidth, CV_32FC1, cv::Scalar(kWallZ));
   f.instance_ids = cv::Mat(kHeight, kWidth, CV_16UC1, cv::Scalar(0));
-  const int box_u = 60 + static_cast<int>(std::lround(k * kFx * (kBoxStepM - kCameraStepM) / kBoxZ));
+  const int box_u = 60 + box_jump_px + static_cast<int>(std::lround(k * kFx * (kBoxStepM - kCameraStepM) / kBoxZ));
   const cv::Rect r(box_u, 70, box.cols, box.rows);
   box.copyTo(image(r));
   f.depth_m(r).setTo(kBoxZ);
@@ -106,6 +107,34 @@ TEST(ImageFrontend, TracksTheWallAndTheMovingBoxWithTheirTrueMotions) {
     EXPECT_NEAR(fit.centroid_camera_prev.z(), kBoxZ, 1e-3) << k;
     prev = curr;
   }
+}
+
+TEST(ImageFrontend, AFitItRejectedDoesNotWidenTheAccelerationGateForTheNext) {
+  // The box moves steadily, then jumps 8 px (0.16 m at 6 m: 16 m/s^2, over a bound of 10) at frames 6 and
+  // 7, and moves steadily from there: the tracks of frames 6 and 7 are wrong in one direction, as a
+  // half-hidden car's tracks stuck to the edge of what hides it. Both fits are rejected, and the steady
+  // motion after them is accepted. (A gate whose bound grew with each frame since the motion it holds let
+  // the second wrong fit through, then held it and rejected the right motion after it.)
+  FrontendParams params = Params();
+  params.object_max_acceleration_mps2 = 10.0;  // 0.1 m a frame: jumps the flow follows can break it
+  ImageFrontend frontend(params, Camera());
+  const auto jump = [](int k) { return 8 * (k >= 6) + 8 * (k >= 7); };
+  std::map<int, bool> rejected;
+  std::map<int, double> step_m;
+  for (int k = 0; k <= 9; ++k) {
+    const FrameMeasurement m = frontend.process(MakeFrame(k, 1, jump(k)));
+    const auto counts = frontend.lastStats().object_counts.find(1);
+    ASSERT_NE(counts, frontend.lastStats().object_counts.end()) << k;
+    rejected[k] = counts->second.motion_rejected;
+    for (const auto& o : m.objects)
+      if (o.motion_fit) step_m[k] = o.motion_fit->H_camera_prev.translation().x();
+  }
+  for (int k = 1; k <= 5; ++k) EXPECT_FALSE(rejected[k]) << k;
+  EXPECT_TRUE(rejected[6]);
+  EXPECT_TRUE(rejected[7]);
+  EXPECT_FALSE(rejected[8]);
+  ASSERT_TRUE(step_m.count(8));
+  EXPECT_NEAR(step_m[8], kBoxStepM, 0.01);
 }
 
 TEST(ImageFrontend, OdometryThatContradictsThePnpMotionIsDroppedAndCounted) {
