@@ -270,9 +270,9 @@ TEST(ImageFrontend, IgnoresMasksBelowTheAreaThresholdAndObjectsBeyondRange) {
 
 namespace passing {
 // A still camera and a car's side coming towards it at a grazing angle: a textured vertical plane at
-// x = -1.5 m, 6 m long, whose near end comes 0.8 m closer every frame, in front of a wall 20 m away.
-// Between two frames the side stretches along u by (z / (z - 0.8))^2: 30 % and more once it is within
-// about 6 m, beyond what Lucas-Kanade's translation model follows.
+// x = -1.5 m, 6 m long, whose near end comes 1.2 m closer every frame, in front of a wall 20 m away.
+// Between two frames a point of the side at depth z stretches along u by (z / (z - 1.2))^2: 30 % and more
+// within about 8.5 m, beyond what Lucas-Kanade's translation model follows.
 constexpr double kSideX = -1.5, kSideLength = 6.0, kStepZ = 1.2, kFirstZ = 10.0, kWallZ = 20.0;
 constexpr double kTexturePerM = 20.0;  // texture pixels per metre on the side
 
@@ -282,7 +282,8 @@ bool OnSide(double u, double v, int k, double* z, cv::Point2f* texture_px) {
   const double dx = (u - cam.cx) / cam.fx, dy = (v - cam.cy) / cam.fy, near_z = kFirstZ - kStepZ * k;
   *z = dx < 0.0 ? kSideX / dx : -1.0;
   if (!(*z >= near_z && *z <= near_z + kSideLength && std::abs(*z * dy) <= 1.0)) return false;
-  *texture_px = cv::Point2f(static_cast<float>((*z - near_z) * kTexturePerM), static_cast<float>((*z * dy + 1.0) * kTexturePerM));
+  *texture_px = cv::Point2f(static_cast<float>((*z - near_z) * kTexturePerM),
+                            static_cast<float>((*z * dy + 1.0) * kTexturePerM));
   return true;
 }
 
@@ -342,7 +343,7 @@ Vec2 Stepped(const Vec3& p_camera) {
 }
 
 struct Run {
-  int tracked = 0, reacquired = 0;   // over the frames where the side is within 6 m, and all frames
+  int tracked = 0, reacquired = 0;   // from frame 4 (the near end within 5.2 m), and over all frames
   int continued = 0, within_1px = 0;  // tracks carried over, and those within a pixel of the side's step
   int good_fits = 0;                  // motion fits within 5 cm of the side's step
 };
