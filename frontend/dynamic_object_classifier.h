@@ -15,7 +15,8 @@
 //    fit (a re-acquired track) does not move the median; such a car keeps its own motion in the estimator
 //    but is reported standing, with speed 0. Until the window holds half its length (a car entering
 //    the view or back from an occlusion) the object is unsupported, its motion not reported at all,
-//    unless one transition alone is clearly moving (an oncoming car seen for a few frames).
+//    unless one transition alone is clearly moving, fitted on enough tracks (an oncoming car seen for a
+//    few frames).
 
 #include <deque>
 #include <map>
@@ -53,6 +54,7 @@ struct ObjectMotionTest {
   bool significant = false;
   Vec3 displacement_camera_prev = Vec3::Zero();  // of the centroid over the transition, camera k-1 axes
   double variance_m2 = 0.0;                      // per axis, of that displacement if the object were static
+  int inliers = 0;                               // tracks the motion was fitted on
 };
 
 class DynamicObjectClassifier {
@@ -74,7 +76,7 @@ class DynamicObjectClassifier {
   struct Window {
     std::deque<Vec3> displacement;
     std::deque<double> variance_m2;
-    bool last_clearly_moving = false;  // the last transition alone: fast and significant
+    bool last_clearly_moving = false;  // the last transition alone: fast, significant, on enough tracks
   };
   // What the object's window supports: moving when its net and its typical (median) displacement are
   // both fast and significant, or the typical one is clearly fast; unsupported while it holds less than

@@ -217,6 +217,14 @@ TEST(DynamicObjectClassifier, AClearlyMovingNewObjectIsReportedAtOnceAStaticOneN
   TwoFrames fast = MakeFrames(SE3(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, 0.2)), true, false);
   c.label(fast.prev, &fast.curr);
   EXPECT_EQ(fast.curr.objects[0].reported, ReportedMotion::kMoving);
+  // The same motion from fewer tracks than min_static_inliers (a car entering the view with a few
+  // points, whose fit's residuals say little about its error): it waits for support.
+  DynamicObjectClassifier few_c(ClassifierParams{}, 10.0);
+  TwoFrames few = MakeFrames(SE3(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, 0.2)), true, false);
+  few.prev.objects[0].points.resize(ClassifierParams{}.min_static_inliers - 1);
+  few.curr.objects[0].points.resize(ClassifierParams{}.min_static_inliers - 1);
+  few_c.label(few.prev, &few.curr);
+  EXPECT_EQ(few.curr.objects[0].reported, ReportedMotion::kUnsupported);
   // At 0.7 m/s it waits for support.
   DynamicObjectClassifier slow_c(ClassifierParams{}, 10.0);
   TwoFrames slow = MakeFrames(SE3(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, 0.07)), true, false);
