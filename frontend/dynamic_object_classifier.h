@@ -33,7 +33,9 @@ struct ClassifierParams {
   // Consecutive still transitions before an object is called static: one lucky frame of a
   // slightly moving object must not merge it into the static map.
   int min_static_transitions = 2;
-  int min_static_inliers = 10;  // below: fall back to odometry for the camera motion
+  // Fewer static tracks: the camera motion comes from odometry. Fewer object tracks: one transition alone
+  // does not report a new object moving (see kClearMotionFactor).
+  int min_static_inliers = 10;
   double motion_window_s = 0.5;  // the displacement tested is the sum over the transitions this long
   RansacParams static_ransac{100, 0.2, 3, 11};
   RansacParams object_ransac{100, 0.3, 4, 13};
