@@ -71,6 +71,8 @@ double RmsSpread(const std::vector<Vec3>& pts) {
 void ClassifierParams::validate() const {
   if (!(dynamic_speed_threshold_mps > 0.0))
     throw std::invalid_argument("classifier.dynamic_speed_threshold_mps must be positive");
+  if (!(report_speed_threshold_mps > 0.0))
+    throw std::invalid_argument("classifier.report_speed_threshold_mps must be positive");
   if (!(static_test_chi2 > 0.0)) throw std::invalid_argument("classifier.static_test_chi2 must be positive");
   if (min_static_transitions < 1) throw std::invalid_argument("classifier.min_static_transitions must be >= 1");
   if (min_static_inliers < 3) throw std::invalid_argument("classifier.min_static_inliers must be >= 3");
@@ -165,7 +167,7 @@ ReportedMotion DynamicObjectClassifier::reportOverWindow(const Window& window) c
     median[axis] = n % 2 ? values[n / 2]
                          : 0.5 * (values[n / 2] + *std::max_element(values.begin(), values.begin() + n / 2));
   }
-  const double step_m = params_.dynamic_speed_threshold_mps / frame_rate_hz_;
+  const double step_m = params_.report_speed_threshold_mps / frame_rate_hz_;
   // An infinite variance (no camera motion known) leaves the speeds alone to decide.
   const auto significant = [&](double d_m, double var_m2) {
     return !std::isfinite(var_m2) || d_m * d_m > params_.static_test_chi2 * var_m2;
@@ -200,7 +202,7 @@ void DynamicObjectClassifier::label(const FrameMeasurement& prev, FrameMeasureme
         still = test->speed_mps < params_.dynamic_speed_threshold_mps && !test->significant;
         window.displacement.push_back(R_first_camera_ * test->displacement_camera_prev);
         window.last_clearly_moving =
-            test->significant && test->speed_mps >= kClearMotionFactor * params_.dynamic_speed_threshold_mps &&
+            test->significant && test->speed_mps >= kClearMotionFactor * params_.report_speed_threshold_mps &&
             test->inliers >= params_.min_static_inliers;
         window.variance_m2.push_back(test->variance_m2);
         while (static_cast<int>(window.displacement.size()) > window_transitions_) {

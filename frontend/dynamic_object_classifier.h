@@ -10,8 +10,8 @@
 //    must not be merged into the static map, where it pulls the camera;
 //  - for the report (reported): over the object's transitions of the last `motion_window_s`, it is
 //    moving when both their net displacement and their typical (per-axis median) one are faster than
-//    the speed threshold and significant, or the typical one is clearly fast (three times the
-//    threshold); standing otherwise. A parked car's jitter cancels in the net displacement, one wrong
+//    the report's speed threshold and significant, or the typical one is clearly fast (three times
+//    that threshold); standing otherwise. A parked car's jitter cancels in the net displacement, one wrong
 //    fit (a re-acquired track) does not move the median; such a car keeps its own motion in the estimator
 //    but is reported standing, with speed 0. Until the window holds half its length (a car entering
 //    the view or back from an occlusion) the object is unsupported, its motion not reported at all,
@@ -28,7 +28,12 @@
 namespace dslam {
 
 struct ClassifierParams {
+  // The estimator's test: slower than this and not significant, an object may join the static map.
   double dynamic_speed_threshold_mps = 0.5;
+  // The report's: an object is reported moving only this fast (DESIGN.md's moving pair: 1 m/s). Higher than
+  // the estimator's, since a slow, significant motion keeps an object out of the static map, but a vehicle
+  // acting on the report needs it to mean what the evaluation means by moving.
+  double report_speed_threshold_mps = 1.0;
   double static_test_chi2 = 16.27;  // chi-square (3 dof) bound of a static object's displacement: 99.9 %
   // Consecutive still transitions before an object is called static: one lucky frame of a
   // slightly moving object must not merge it into the static map.

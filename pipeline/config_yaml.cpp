@@ -97,6 +97,8 @@ const Schema& GetSchema() {
       {"classifier",
        {{"dynamic_speed_threshold_mps",
          Field<double>([](RunConfig& c) -> double& { return c.classifier.dynamic_speed_threshold_mps; })},
+        {"report_speed_threshold_mps",
+         Field<double>([](RunConfig& c) -> double& { return c.classifier.report_speed_threshold_mps; })},
         {"static_test_chi2", Field<double>([](RunConfig& c) -> double& { return c.classifier.static_test_chi2; })},
         {"min_static_transitions",
          Field<int>([](RunConfig& c) -> int& { return c.classifier.min_static_transitions; })},

@@ -19,6 +19,7 @@ TEST(ConfigYaml, RoundTripKeepsEveryValue) {
   c.backend.batch_function_tolerance = 3e-9;
   c.backend.mode_per_object[4] = MotionMode::kConstant;
   c.classifier.dynamic_speed_threshold_mps = 0.8;
+  c.classifier.report_speed_threshold_mps = 1.3;
   c.classifier.min_static_transitions = 3;
   c.backend.linear_solver = LinearSolver::kSchur;
   c.frontend.warped_search.radius_px = 31;
@@ -38,6 +39,7 @@ TEST(ConfigYaml, RoundTripKeepsEveryValue) {
   EXPECT_EQ(back.backend.batch_function_tolerance, 3e-9);
   EXPECT_EQ(back.backend.modeFor(4), MotionMode::kConstant);
   EXPECT_EQ(back.classifier.dynamic_speed_threshold_mps, 0.8);
+  EXPECT_EQ(back.classifier.report_speed_threshold_mps, 1.3);
   EXPECT_EQ(back.classifier.min_static_transitions, 3);
   EXPECT_EQ(back.backend.linear_solver, LinearSolver::kSchur);
   EXPECT_EQ(back.frontend.warped_search.radius_px, 31);
