@@ -53,6 +53,11 @@ FlowTracker::~FlowTracker() = default;
 
 namespace {
 
+// Pyramid levels of the search near a trusted prediction: enough to take up a prediction a few pixels
+// off, too few for the coarse levels' windows (8 times the window at level 3) to reach past the image
+// border or a nearby occluding edge, where they drag a point that moved far off its match.
+constexpr int kNearPredictionLevels = 1;
+
 bool Inside(const cv::Point2f& p, const cv::Size& size) {
   return std::isfinite(p.x) && std::isfinite(p.y) && p.x >= 0.0f && p.y >= 0.0f && p.x <= size.width - 1.0f &&
          p.y <= size.height - 1.0f;
@@ -70,6 +75,46 @@ cv::Point2f SampleFlow(const cv::Mat& flow, const cv::Point2f& p) {
 
 }  // namespace
 
+FlowResult FlowTracker::LucasKanadeBothWays(const cv::Mat& prev_gray, const cv::Mat& curr_gray,
+                                             const std::vector<cv::Point2f>& prev_points,
+                                             const std::vector<cv::Point2f>& predicted, int levels) const {
+  FlowResult result;
+  result.points = predicted.empty() ? prev_points : predicted;
+  result.ok.assign(prev_points.size(), 0);
+  result.fb_error_px.assign(prev_points.size(), 0.0f);
+  if (prev_points.empty()) return result;
+  const cv::Size window(params_.lk_window_px, params_.lk_window_px);
+  const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
+  std::vector<uint8_t> status_fwd, status_bwd;
+  std::vector<float> err;
+  cv::calcOpticalFlowPyrLK(prev_gray, curr_gray, prev_points, result.points, status_fwd, err, window, levels, stop,
+                           predicted.empty() ? 0 : cv::OPTFLOW_USE_INITIAL_FLOW);
+  // The backward pass starts where the forward pass ended, moved back by the predicted motion (if any):
+  // started at the origin it would return there even from a wrong match on an ambiguous texture.
+  std::vector<cv::Point2f> back = result.points;
+  if (!predicted.empty())
+    for (size_t i = 0; i < back.size(); ++i) back[i] -= predicted[i] - prev_points[i];
+  cv::calcOpticalFlowPyrLK(curr_gray, prev_gray, result.points, back, status_bwd, err, window, levels, stop,
+                           cv::OPTFLOW_USE_INITIAL_FLOW);
+  for (size_t i = 0; i < prev_points.size(); ++i) {
+    result.fb_error_px[i] = static_cast<float>(cv::norm(back[i] - prev_points[i]));
+    result.ok[i] = status_fwd[i] && status_bwd[i] && Inside(result.points[i], prev_gray.size()) &&
+                   result.fb_error_px[i] <= params_.fb_threshold_px;
+  }
+  return result;
+}
+
+FlowResult FlowTracker::trackNearPrediction(const cv::Mat& prev_gray, const cv::Mat& curr_gray,
+                                            const std::vector<cv::Point2f>& prev_points,
+                                            const std::vector<cv::Point2f>& predicted) const {
+  if (params_.method != FlowMethod::kLucasKanade) throw std::invalid_argument("flow: a search near a prediction is Lucas-Kanade's");
+  if (prev_gray.type() != CV_8UC1 || curr_gray.type() != CV_8UC1 || prev_gray.size() != curr_gray.size())
+    throw std::invalid_argument("flow needs two 8-bit grey images of one size");
+  if (predicted.size() != prev_points.size())
+    throw std::invalid_argument("flow: one predicted position per point is needed");
+  return LucasKanadeBothWays(prev_gray, curr_gray, prev_points, predicted, std::min(kNearPredictionLevels, params_.lk_pyramid_levels));
+}
+
 FlowResult FlowTracker::track(const cv::Mat& prev_gray, const cv::Mat& curr_gray,
                               const std::vector<cv::Point2f>& prev_points, const cv::Mat& precomputed_flow,
                               const std::vector<cv::Point2f>& predicted) {
@@ -84,33 +129,9 @@ FlowResult FlowTracker::track(const cv::Mat& prev_gray, const cv::Mat& curr_gray
 
   if (params_.method == FlowMethod::kOrb) return trackByDescriptors(prev_gray, curr_gray, prev_points);
   if (params_.method == FlowMethod::kLucasKanade) {
-    if (prev_points.empty()) return result;
-    const cv::Size window(params_.lk_window_px, params_.lk_window_px);
-    const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
     if (!predicted.empty() && predicted.size() != prev_points.size())
       throw std::invalid_argument("flow: one predicted position per point is needed");
-    std::vector<uint8_t> status_fwd, status_bwd;
-    std::vector<float> err;
-    int flags = 0;
-    if (!predicted.empty()) {
-      result.points = predicted;
-      flags = cv::OPTFLOW_USE_INITIAL_FLOW;
-    }
-    cv::calcOpticalFlowPyrLK(prev_gray, curr_gray, prev_points, result.points, status_fwd, err, window,
-                             params_.lk_pyramid_levels, stop, flags);
-    // The backward pass starts where the forward pass ended, moved back by the predicted motion (if any):
-    // started at the origin it would return there even from a wrong match on an ambiguous texture.
-    std::vector<cv::Point2f> back = result.points;
-    if (!predicted.empty())
-      for (size_t i = 0; i < back.size(); ++i) back[i] -= predicted[i] - prev_points[i];
-    cv::calcOpticalFlowPyrLK(curr_gray, prev_gray, result.points, back, status_bwd, err, window,
-                             params_.lk_pyramid_levels, stop, cv::OPTFLOW_USE_INITIAL_FLOW);
-    for (size_t i = 0; i < prev_points.size(); ++i) {
-      result.fb_error_px[i] = static_cast<float>(cv::norm(back[i] - prev_points[i]));
-      result.ok[i] = status_fwd[i] && status_bwd[i] && Inside(result.points[i], size) &&
-                     result.fb_error_px[i] <= params_.fb_threshold_px;
-    }
-    return result;
+    return LucasKanadeBothWays(prev_gray, curr_gray, prev_points, predicted, params_.lk_pyramid_levels);
   }
 
   cv::Mat backward;

@@ -50,6 +50,14 @@ class FlowTracker {
   FlowResult track(const cv::Mat& prev_gray, const cv::Mat& curr_gray, const std::vector<cv::Point2f>& prev_points,
                    const cv::Mat& precomputed_flow = cv::Mat(), const std::vector<cv::Point2f>& predicted = {});
 
+  // Lucas-Kanade only (else std::invalid_argument), started at `predicted` (one per point) with two
+  // pyramid levels, both ways. For points whose motion model is trusted but which the full pyramid lost:
+  // near the image border or an occluding edge, its coarse levels see mostly what is not the point's
+  // neighbourhood (a car leaving the view at 100 px a frame).
+  FlowResult trackNearPrediction(const cv::Mat& prev_gray, const cv::Mat& curr_gray,
+                                 const std::vector<cv::Point2f>& prev_points,
+                                 const std::vector<cv::Point2f>& predicted) const;
+
   // The dense prev -> curr field of the last track() call (DIS and precomputed; empty for LK).
   const cv::Mat& lastDenseFlow() const { return dense_forward_; }
 
@@ -60,6 +68,9 @@ class FlowTracker {
   std::unique_ptr<Dis> dis_;
   struct Orb;
   std::unique_ptr<Orb> orb_;
+  FlowResult LucasKanadeBothWays(const cv::Mat& prev_gray, const cv::Mat& curr_gray,
+                                 const std::vector<cv::Point2f>& prev_points, const std::vector<cv::Point2f>& predicted,
+                                 int levels) const;
   FlowResult trackByDescriptors(const cv::Mat& prev_gray, const cv::Mat& curr_gray,
                                 const std::vector<cv::Point2f>& prev_points);
 };

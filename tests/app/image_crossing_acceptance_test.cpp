@@ -38,9 +38,11 @@ TEST(RenderedCrossing, CarsCrossingAndOncomingAreTrackedAndTheStopAndGoCarStands
   run.object_category = "VEHICLE";
   const Estimate ours = RunSequence(images, config, run).at(Method::kOurs).result.estimate;
 
-  // The pairs missed are those where a car enters the 22 m range or leaves the view (issue 13 asks 0.9;
-  // the 60 km/h car has 2 such pairs of 15).
-  EXPECT_EQ(test::CheckJunctionTraffic(images, ours, 0.85), 6);
+  // Issue 13 asks 0.9 of each car's pairs. Those missed are where a car enters the view or the 22 m
+  // range, or has fewer than 10 tracks for its first fit. A car leaving the view keeps the tracks of its
+  // part still in it (ImageFrontend::retryNearPrediction); without that the 60 and 40 km/h cars fall to
+  // 0.87 and 0.86.
+  EXPECT_EQ(test::CheckJunctionTraffic(images, ours, 0.9), 6);
 
   // As in the simulated junction (CrossingScenario): stopped for the classifier's half-second window,
   // reported standing; moving again, reported moving; parked, never moving.

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <iostream>
+
 #include <opencv2/imgproc.hpp>
 
 #include "support/synthetic_images.h"
@@ -108,6 +110,54 @@ TEST(FlowTracker, PredictedPositionsLetLucasKanadeFollowALargeMotion) {
   }
   EXPECT_GT(good_with, 0.9 * points.size());
   EXPECT_LT(good_without, 0.2 * points.size());
+}
+
+TEST(FlowTracker, NearAPredictionItKeepsAPatchLeavingTheViewThatTheFullPyramidLoses) {
+  // A textured car crosses a still background 105 px a frame and leaves the view at the right border of
+  // a 640 px image: 160 px of it are in view, then 55 px, its rear. Started exactly where the points
+  // go, the full pyramid (3 levels: a 120 px window at the coarsest) sees there mostly the still
+  // background and the image border, and loses most of them; two levels keep them.
+  const int width = 640, height = 240, car_length = 300, dx = 105, car_left = width - 160;
+  const cv::Mat background = test::RandomTexture(width, height, 11);
+  // The car's texture is fine-grained (2 px speckle, as a rendered car side): at the coarse levels it
+  // averages out, and the background's blocks dominate the window.
+  cv::Mat speckle(60, car_length / 2, CV_8UC1), car;
+  cv::RNG rng(12);
+  rng.fill(speckle, cv::RNG::UNIFORM, 40, 216);
+  cv::resize(speckle, car, cv::Size(car_length, 120), 0, 0, cv::INTER_NEAREST);
+  const auto frame = [&](int left) {
+    cv::Mat image = background.clone();
+    const cv::Rect seen = cv::Rect(left, 60, car_length, 120) & cv::Rect(0, 0, width, height);
+    car(cv::Rect(seen.x - left, 0, seen.width, 120)).copyTo(image(seen));
+    return image;
+  };
+  const cv::Mat prev = frame(car_left), curr = frame(car_left + dx);
+  std::vector<cv::Point2f> points, predicted;
+  for (int v = 72; v < 170; v += 6)
+    for (int u = car_left + 6; u < width - dx - 6; u += 6) points.emplace_back(u, v), predicted.emplace_back(u + dx, v);
+  FlowParams params;  // 15 px window, 3 levels
+  FlowTracker tracker(params);
+  const FlowResult full = tracker.track(prev, curr, points, cv::Mat(), predicted);
+  const FlowResult near = tracker.trackNearPrediction(prev, curr, points, predicted);
+  int full_good = 0, near_good = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    full_good += full.ok[i] && cv::norm(full.points[i] - predicted[i]) < 0.1;
+    near_good += near.ok[i] && cv::norm(near.points[i] - predicted[i]) < 0.1;
+  }
+  std::cout << "full pyramid " << full_good << ", near the prediction " << near_good << " of " << points.size() << std::endl;
+  EXPECT_GT(near_good, 0.9 * points.size());
+  EXPECT_LT(full_good, 0.5 * points.size());
+  // A prediction 4 px off is taken up.
+  std::vector<cv::Point2f> off = predicted;
+  for (auto& p : off) p += cv::Point2f(4.0f, -3.0f);
+  const FlowResult near_off = tracker.trackNearPrediction(prev, curr, points, off);
+  int off_good = 0;
+  for (size_t i = 0; i < points.size(); ++i) off_good += near_off.ok[i] && cv::norm(near_off.points[i] - predicted[i]) < 0.1;
+  EXPECT_GT(off_good, 0.9 * points.size());
+  EXPECT_THROW(tracker.trackNearPrediction(prev, curr, points, {}), std::invalid_argument);
+  FlowParams dis;
+  dis.method = FlowMethod::kDis;
+  EXPECT_THROW(FlowTracker(dis).trackNearPrediction(prev, curr, points, predicted), std::invalid_argument);
 }
 
 TEST(FlowTracker, ExplainsWhatIsMissing) {
