@@ -4,7 +4,7 @@
 // points by 3D-3D RANSAC when there are enough, else the odometry), then the object's own rigid motion
 // is fitted. Two decisions come out of it:
 //  - for the estimator (is_dynamic): the object's points may serve as static structure only if its
-//    centroid moved slower than the speed threshold AND its displacement is not statistically
+//    centroid moved slower than the estimator's speed threshold AND its displacement is not statistically
 //    significant given the point noise and the camera motion's uncertainty (a chi-square test), over
 //    consecutive transitions: an object that jitters by a few centimetres (e.g. a replayed KITTI label)
 //    must not be merged into the static map, where it pulls the camera;

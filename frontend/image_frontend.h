@@ -121,9 +121,10 @@ class ImageFrontend {
                               const PixelPrediction& prediction, FlowResult* flow, int* ambiguous);
   PixelPrediction predictPixels(const std::optional<SE3>& camera_motion,
                                 const std::map<int, cv::Rect>& label_boxes) const;
-  // Tracks of an object with a confirmed motion that the flow lost are searched for again from their
-  // predicted pixel with two pyramid levels only (FlowTracker::trackNearPrediction): a car leaving the
-  // view at 100 px a frame keeps the tracks of its part still inside.
+  // Tracks of an object with a confirmed motion that the flow lost, predicted within reach of the
+  // coarsest pyramid window from the image border, are searched for again from their predicted pixel
+  // with two pyramid levels only (FlowTracker::trackNearPrediction): a car leaving the view at 100 px a
+  // frame keeps the tracks of its part still inside.
   void retryNearPrediction(const cv::Mat& gray, const std::vector<cv::Point2f>& prev_px,
                            const PixelPrediction& prediction, FlowResult* flow) const;
   // Tracks of an object with a confirmed motion, where that motion deforms their patch (a car passing
