@@ -58,6 +58,11 @@ namespace {
 // border or a nearby occluding edge, where they drag a point that moved far off its match.
 constexpr int kNearPredictionLevels = 1;
 
+void RequireGreyPair(const cv::Mat& prev_gray, const cv::Mat& curr_gray) {
+  if (prev_gray.type() != CV_8UC1 || curr_gray.type() != CV_8UC1 || prev_gray.size() != curr_gray.size())
+    throw std::invalid_argument("flow needs two 8-bit grey images of one size");
+}
+
 bool Inside(const cv::Point2f& p, const cv::Size& size) {
   return std::isfinite(p.x) && std::isfinite(p.y) && p.x >= 0.0f && p.y >= 0.0f && p.x <= size.width - 1.0f &&
          p.y <= size.height - 1.0f;
@@ -78,6 +83,8 @@ cv::Point2f SampleFlow(const cv::Mat& flow, const cv::Point2f& p) {
 FlowResult FlowTracker::LucasKanadeBothWays(const cv::Mat& prev_gray, const cv::Mat& curr_gray,
                                              const std::vector<cv::Point2f>& prev_points,
                                              const std::vector<cv::Point2f>& predicted, int levels) const {
+  if (!predicted.empty() && predicted.size() != prev_points.size())
+    throw std::invalid_argument("flow: one predicted position per point is needed");
   FlowResult result;
   result.points = predicted.empty() ? prev_points : predicted;
   result.ok.assign(prev_points.size(), 0);
@@ -108,8 +115,7 @@ FlowResult FlowTracker::trackNearPrediction(const cv::Mat& prev_gray, const cv::
                                             const std::vector<cv::Point2f>& prev_points,
                                             const std::vector<cv::Point2f>& predicted) const {
   if (params_.method != FlowMethod::kLucasKanade) throw std::invalid_argument("flow: a search near a prediction is Lucas-Kanade's");
-  if (prev_gray.type() != CV_8UC1 || curr_gray.type() != CV_8UC1 || prev_gray.size() != curr_gray.size())
-    throw std::invalid_argument("flow needs two 8-bit grey images of one size");
+  RequireGreyPair(prev_gray, curr_gray);
   if (predicted.size() != prev_points.size())
     throw std::invalid_argument("flow: one predicted position per point is needed");
   return LucasKanadeBothWays(prev_gray, curr_gray, prev_points, predicted, std::min(kNearPredictionLevels, params_.lk_pyramid_levels));
@@ -118,21 +124,17 @@ FlowResult FlowTracker::trackNearPrediction(const cv::Mat& prev_gray, const cv::
 FlowResult FlowTracker::track(const cv::Mat& prev_gray, const cv::Mat& curr_gray,
                               const std::vector<cv::Point2f>& prev_points, const cv::Mat& precomputed_flow,
                               const std::vector<cv::Point2f>& predicted) {
-  if (prev_gray.type() != CV_8UC1 || curr_gray.type() != CV_8UC1 || prev_gray.size() != curr_gray.size())
-    throw std::invalid_argument("flow needs two 8-bit grey images of one size");
+  RequireGreyPair(prev_gray, curr_gray);
+  dense_forward_.release();
+  if (params_.method == FlowMethod::kOrb) return trackByDescriptors(prev_gray, curr_gray, prev_points);
+  if (params_.method == FlowMethod::kLucasKanade)
+    return LucasKanadeBothWays(prev_gray, curr_gray, prev_points, predicted, params_.lk_pyramid_levels);
+
   const cv::Size size = curr_gray.size();
   FlowResult result;
   result.points.resize(prev_points.size());
   result.ok.assign(prev_points.size(), 0);
   result.fb_error_px.assign(prev_points.size(), 0.0f);
-  dense_forward_.release();
-
-  if (params_.method == FlowMethod::kOrb) return trackByDescriptors(prev_gray, curr_gray, prev_points);
-  if (params_.method == FlowMethod::kLucasKanade) {
-    if (!predicted.empty() && predicted.size() != prev_points.size())
-      throw std::invalid_argument("flow: one predicted position per point is needed");
-    return LucasKanadeBothWays(prev_gray, curr_gray, prev_points, predicted, params_.lk_pyramid_levels);
-  }
 
   cv::Mat backward;
   if (params_.method == FlowMethod::kDis) {

@@ -398,7 +398,7 @@ ImageFrontend::PixelPrediction ImageFrontend::predictPixels(const std::optional<
         const auto before = prev_label_boxes_.find(t.object_id), now = label_boxes.find(t.object_id);
         if (before != prev_label_boxes_.end() && now != label_boxes.end()) {
           const cv::Point2f px = PredictFromMaskBoxes(before->second, now->second, t.px, camera_.width, camera_.height);
-          const bool inside = px.x >= 0 && px.y >= 0 && px.x <= camera_.width - 1 && px.y <= camera_.height - 1;
+          const bool inside = inView(px.x, px.y);
           if (camera && inside) {
             const Vec3 still = T_curr_prev * p;
             const Vec2 uv = still.z() > 0.1 ? camera_.project(still) : Vec2(-1.0, -1.0);
@@ -413,8 +413,7 @@ ImageFrontend::PixelPrediction ImageFrontend::predictPixels(const std::optional<
     }
     p = T_curr_prev * p;
     const Vec2 uv = p.z() > 0.1 ? camera_.project(p) : Vec2(t.px.x, t.px.y);
-    const bool inside = uv.allFinite() && uv.x() >= 0 && uv.y() >= 0 && uv.x() <= camera_.width - 1 &&
-                        uv.y() <= camera_.height - 1;
+    const bool inside = inView(uv.x(), uv.y());
     prediction.px.push_back(inside ? cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y())) : t.px);
     prediction.leaves_view.push_back(0);
   }
@@ -424,6 +423,16 @@ ImageFrontend::PixelPrediction ImageFrontend::predictPixels(const std::optional<
     prediction.px_if_still.clear();
   }
   return prediction;
+}
+
+bool ImageFrontend::inView(double u, double v) const {
+  return u >= 0 && v >= 0 && u <= camera_.width - 1 && v <= camera_.height - 1;
+}
+
+const ImageFrontend::ObjectMotionMemory* ImageFrontend::confirmedMotion(int object_id) const {
+  const auto memory = last_object_motion_.find(object_id);
+  return memory != last_object_motion_.end() && memory->second.confirmations >= kConfirmedFits ? &memory->second
+                                                                                               : nullptr;
 }
 
 void ImageFrontend::retryNearPrediction(const cv::Mat& gray, const std::vector<cv::Point2f>& prev_px,
@@ -439,9 +448,8 @@ void ImageFrontend::retryNearPrediction(const cv::Mat& gray, const std::vector<c
   std::vector<cv::Point2f> from, start;
   std::vector<size_t> index;
   for (size_t i = 0; i < tracks_.size(); ++i) {
-    if (flow->ok[i] || prediction.leaves_view[i] || tracks_[i].object_id == 0) continue;
-    const auto memory = last_object_motion_.find(tracks_[i].object_id);
-    if (memory == last_object_motion_.end() || memory->second.confirmations < kConfirmedFits) continue;
+    if (flow->ok[i] || prediction.leaves_view[i] || tracks_[i].object_id == 0 || !confirmedMotion(tracks_[i].object_id))
+      continue;
     if (prediction.px[i] == prev_px[i] || !near_border(prediction.px[i])) continue;
     from.push_back(prev_px[i]);
     start.push_back(prediction.px[i]);
@@ -472,9 +480,9 @@ void ImageFrontend::reacquireWarped(const cv::Mat& gray, const std::optional<SE3
   for (size_t i = 0; i < tracks_.size(); ++i) {
     const Track& t = tracks_[i];
     if (t.object_id == 0) continue;
-    const auto memory = last_object_motion_.find(t.object_id);
-    if (memory == last_object_motion_.end() || memory->second.confirmations < kConfirmedFits) continue;
-    const SE3 T_curr_prev_object = T_curr_prev * memory->second.motion;
+    const ObjectMotionMemory* memory = confirmedMotion(t.object_id);
+    if (!memory) continue;
+    const SE3 T_curr_prev_object = T_curr_prev * memory->motion;
     bool valid = true;
     const auto predict = [&](const Vec3& p_prev) {
       const Vec3 p = T_curr_prev_object * p_prev;
@@ -489,7 +497,7 @@ void ImageFrontend::reacquireWarped(const cv::Mat& gray, const std::optional<SE3
       return predict(camera_.backProject(px.x, px.y, depth));
     };
     const cv::Point2f px = predict(t.p_camera);
-    if (!valid || !(px.x >= 0 && px.y >= 0 && px.x <= camera_.width - 1 && px.y <= camera_.height - 1)) continue;
+    if (!valid || !inView(px.x, px.y)) continue;
     const cv::Point2f du = (neighbour(kStepPx, 0) - neighbour(-kStepPx, 0)) / (2.0f * kStepPx);
     const cv::Point2f dv = (neighbour(0, kStepPx) - neighbour(0, -kStepPx)) / (2.0f * kStepPx);
     // The flow models a neighbourhood that keeps its shape: where it lost such a track it was for another
@@ -522,7 +530,7 @@ void ImageFrontend::dropLeavingTracks(int object_id, const SE3& T_prev_curr, con
   const auto leaves = [&](size_t i) {
     const Vec3 p = T_curr_prev * (memory->second.motion * kept[i].p_camera);
     const Vec2 uv = camera_.project(p);
-    return !(p.z() > 0.1 && uv.x() >= 0 && uv.y() >= 0 && uv.x() <= camera_.width - 1 && uv.y() <= camera_.height - 1);
+    return !(p.z() > 0.1 && inView(uv.x(), uv.y()));
   };
   const size_t before = indices->size();
   indices->erase(std::remove_if(indices->begin(), indices->end(), leaves), indices->end());
@@ -549,7 +557,7 @@ void ImageFrontend::resolveStillHypothesis(const cv::Mat& gray, const std::vecto
   std::vector<size_t> index;
   for (size_t j = 0; j < prediction.from_box.size(); ++j) {
     const cv::Point2f& uv = prediction.px_if_still[j];
-    if (!(uv.x >= 0 && uv.y >= 0 && uv.x <= camera_.width - 1 && uv.y <= camera_.height - 1)) {
+    if (!inView(uv.x, uv.y)) {
       // Still, it would have left the view; moving as its box does, it stays: unknown, and a match
       // found inside may be the wrong one (an image-border strip of a parked car).
       *ambiguous += flow->ok[prediction.from_box[j]];

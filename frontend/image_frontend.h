@@ -121,6 +121,11 @@ class ImageFrontend {
                               const PixelPrediction& prediction, FlowResult* flow, int* ambiguous);
   PixelPrediction predictPixels(const std::optional<SE3>& camera_motion,
                                 const std::map<int, cv::Rect>& label_boxes) const;
+  // Whether a pixel lies in the image (pixel centres 0 .. width - 1); false for a non-finite one.
+  bool inView(double u, double v) const;
+  struct ObjectMotionMemory;
+  // The object's motion memory once two consecutive fits agreed on it (kConfirmedFits); else null.
+  const ObjectMotionMemory* confirmedMotion(int object_id) const;
   // Tracks of an object with a confirmed motion that the flow lost, predicted within reach of the
   // coarsest pyramid window from the image border, are searched for again from their predicted pixel
   // with two pyramid levels only (FlowTracker::trackNearPrediction): a car leaving the view at 100 px a
