@@ -1,13 +1,16 @@
 #pragma once
 // The image front-end (the paper's system overview): instance masks say which points may move,
 // optical flow carries points from frame to frame, depth lifts them to 3D. Per frame it
-//  1. tracks every live point with the configured flow (forward-backward checked);
+//  1. tracks every live point with the configured flow (forward-backward checked); object tracks that
+//     the flow lost or that deform are searched for again from predictions that take the camera's motion
+//     from the static tracks just found;
 //  2. associates the current mask labels with objects (mask ids, or flow-propagated overlap);
 //  3. keeps a static track only on background pixels and an object track only inside its object's mask,
 //     both with valid depth in range;
 //  4. estimates the camera motion by PnP-RANSAC on the static tracks (fused with odometry when present)
 //     and drops the static outliers; fits each object's motion by 3D-3D RANSAC and drops its outliers;
-//  5. replenishes background features on a grid and object points inside the masks;
+//  5. replenishes background features on a grid and object points inside the masks, not where an
+//     object's motion takes them out of view by the next frame;
 // and returns the frame's measurement for the back-end. The static/dynamic decision stays with
 // DynamicObjectClassifier, which works on these measurements.
 
@@ -75,9 +78,13 @@ class ImageFrontend {
     Vec3 p_camera = Vec3::Zero();
   };
 
+  // New background features on a grid and object points inside the masks, up to each object's cap. A
+  // point that an object's confirmed motion and the camera's motion T_prev_curr, repeated, take out of
+  // the image by the next frame can give no pair there: it does not count towards the cap and is not
+  // added, so a car leaving the view, its front first, gets points on the side that stays.
   void replenish(const cv::Mat& gray, const cv::Mat& depth, const cv::Mat& labels, const cv::Mat& near_edge,
                  const std::map<int, int>& object_of_label, const std::map<int, cv::Rect>& label_boxes,
-                 std::vector<Track>* tracks);
+                 const std::optional<SE3>& T_prev_curr, std::vector<Track>* tracks);
 
   FrontendParams params_;
   PinholeCamera camera_;
@@ -110,6 +117,9 @@ class ImageFrontend {
   // camera's motion take out of the image: a match found for them is a wrong one.
   void dropLeavingTracks(int object_id, const SE3& T_prev_curr, const std::vector<Track>& kept,
                          std::vector<size_t>* indices, int* left_view) const;
+  // Whether an object motion (in the earlier camera's frame), then the camera's motion T_curr_prev, take a
+  // point of the earlier camera frame out of the later image.
+  bool leavesView(const SE3& object_motion, const SE3& T_curr_prev, const Vec3& p_prev_camera) const;
   // Checks of a box-predicted track, whose object's motion is unknown. A parked car passing the image
   // border, or sliding behind a car that moves with us, has tracks that the flow drags onto a wrong but
   // forward-backward consistent match near their old pixel. So: a match farther from the box start
@@ -121,6 +131,11 @@ class ImageFrontend {
                               const PixelPrediction& prediction, FlowResult* flow, int* ambiguous);
   PixelPrediction predictPixels(const std::optional<SE3>& camera_motion,
                                 const std::map<int, cv::Rect>& label_boxes) const;
+  // The camera's motion from the static tracks the flow found (PnP-RANSAC, fused with odometry that agrees
+  // with it); nullopt with too few.
+  std::optional<SE3> cameraMotionFromStaticFlow(const FlowResult& flow, const cv::Mat& labels,
+                                                const std::optional<OdometryMeasurement>& odometry,
+                                                const std::optional<SE3>& guess) const;
   // Whether a pixel lies in the image (pixel centres 0 .. width - 1); false for a non-finite one.
   bool inView(double u, double v) const;
   struct ObjectMotionMemory;

@@ -15,7 +15,7 @@
 namespace dslam {
 
 struct WarpedSearchParams {
-  int radius_px = 24;      // how far from the prediction the match may lie, or a fifth of the predicted
+  int radius_px = 24;      // how far from the prediction the match may lie, or a third of the predicted
                            // move when that is more (up to 64 px); 0: no search
   int half_patch_px = 7;   // the template is (2 half + 1) px square
   double min_ncc = 0.85;   // normalised cross-correlation of an accepted match

@@ -268,6 +268,60 @@ TEST(ImageFrontend, IgnoresMasksBelowTheAreaThresholdAndObjectsBeyondRange) {
   for (const auto& p : m.static_points) EXPECT_NEAR(p.p_camera.z(), kWallZ, 1e-3);  // no box point became static
 }
 
+namespace leaving {
+// A still camera before the wall, and a box 6 m away crossing to the right at 15 px a frame: its right
+// edge is at 140 + 15 k px, so it leaves the view over frames 12 to 20.
+constexpr int kBoxStepPx = 15;
+
+ImageFrame MakeFrame(int k) {
+  static const cv::Mat wall = test::RandomTexture(kWidth, kHeight, 31);
+  static const cv::Mat box = test::RandomTexture(120, 70, 32);
+  ImageFrame f;
+  f.frame_index = k;
+  f.t_ns = k * 100'000'000LL;
+  cv::Mat image = wall.clone();
+  f.depth_m = cv::Mat(kHeight, kWidth, CV_32FC1, cv::Scalar(kWallZ));
+  f.instance_ids = cv::Mat(kHeight, kWidth, CV_16UC1, cv::Scalar(0));
+  const cv::Rect r = cv::Rect(20 + kBoxStepPx * k, 70, box.cols, box.rows) & cv::Rect(0, 0, kWidth, kHeight);
+  if (!r.empty()) {
+    box(cv::Rect(0, 0, r.width, r.height)).copyTo(image(r));  // its left part, the rest is out of view
+    f.depth_m(r).setTo(kBoxZ);
+    f.instance_ids(r).setTo(1);
+  }
+  cv::cvtColor(image, f.image, cv::COLOR_GRAY2BGR);
+  return f;
+}
+}  // namespace leaving
+
+TEST(ImageFrontend, ABoxLeavingTheViewGetsItsNewPointsOnThePartThatStays) {
+  FrontendParams params = Params();
+  params.max_points_per_object = 30;
+  ImageFrontend frontend(params, Camera());
+  FrameMeasurement prev = frontend.process(leaving::MakeFrame(0));
+  int added = 0, added_leaving = 0;  // new box points once its motion is confirmed; those the next step takes out
+  size_t most_points = 0;
+  for (int k = 1; k <= 17; ++k) {
+    const FrameMeasurement curr = frontend.process(leaving::MakeFrame(k));
+    ASSERT_EQ(curr.objects.size(), 1u) << k;
+    most_points = std::max(most_points, curr.objects[0].points.size());
+    std::set<int64_t> before;
+    for (const auto& o : prev.objects)
+      for (const auto& p : o.points) before.insert(p.track_id);
+    for (const auto& p : curr.objects[0].points) {
+      if (k < 4 || before.count(p.track_id)) continue;
+      ++added;
+      added_leaving += Camera().project(p.p_camera).x() + leaving::kBoxStepPx > kWidth - 1;
+    }
+    prev = curr;
+  }
+  std::cout << "new box points " << added << ", " << added_leaving << " of them where the next step takes them out "
+            << "of view; at most " << most_points << " points in a frame" << std::endl;
+  ASSERT_GT(added, 20);
+  EXPECT_EQ(added_leaving, 0);
+  // Points that are about to leave do not take the places of those that stay.
+  EXPECT_GT(most_points, static_cast<size_t>(params.max_points_per_object));
+}
+
 namespace passing {
 // A still camera and a car's side coming towards it at a grazing angle: a textured vertical plane at
 // x = -1.5 m, 6 m long, whose near end comes 1.2 m closer every frame, in front of a wall 20 m away.
@@ -348,7 +402,9 @@ struct Run {
   int good_fits = 0;                  // motion fits within 5 cm of the side's step
 };
 
-Run Drive(int radius_px) {
+// `odometry_error_m`: each frame comes with an odometry increment this far off sideways (the camera
+// stands still), as a noisy wheel odometry gives.
+Run Drive(int radius_px, double odometry_error_m = 0.0) {
   FrontendParams params = Params();
   params.min_mask_area_pct = 0.2;
   params.object_ransac.inlier_threshold_m = FrontendParams{}.object_ransac.inlier_threshold_m;
@@ -357,7 +413,9 @@ Run Drive(int radius_px) {
   FrameMeasurement prev = frontend.process(MakeFrame(0));
   Run run;
   for (int k = 1; k <= 6; ++k) {
-    const FrameMeasurement curr = frontend.process(MakeFrame(k));
+    ImageFrame frame = MakeFrame(k);
+    if (odometry_error_m != 0.0) frame.odometry = OdometryMeasurement{SE3(Mat3::Identity(), Vec3(odometry_error_m, 0, 0))};
+    const FrameMeasurement curr = frontend.process(frame);
     const auto counts = frontend.lastStats().object_counts.find(1);
     if (counts != frontend.lastStats().object_counts.end()) {
       if (k >= 4) run.tracked += counts->second.tracked;
@@ -397,6 +455,19 @@ TEST(ImageFrontend, KeepsTheTracksOfACarsSideThatStretchesAsItPassesClose) {
   EXPECT_GT(static_cast<double>(with.within_1px) / with.continued,
             static_cast<double>(without.within_1px) / without.continued);
   EXPECT_GE(with.good_fits, without.good_fits);
+}
+
+// The search starts from where the camera's and the car's motions put each point. With the camera's
+// motion from an odometry 0.4 m off (20 to 30 px at the side's 4 to 6 m), it would search in the wrong
+// place; the static tracks found first give the camera's true motion.
+TEST(ImageFrontend, SearchesTheStretchedSideWhereTheStaticTracksNotTheOdometryPutTheCamera) {
+  const passing::Run exact = passing::Drive(WarpedSearchParams{}.radius_px);
+  const passing::Run off = passing::Drive(WarpedSearchParams{}.radius_px, 0.4);
+  std::cout << "found by the warped search: " << exact.reacquired << " with no odometry, " << off.reacquired
+            << " with an odometry 0.4 m off; tracks kept on the near side " << exact.tracked << ", " << off.tracked
+            << std::endl;
+  EXPECT_GT(off.reacquired, 0.8 * exact.reacquired);
+  EXPECT_GT(off.tracked, 0.8 * exact.tracked);
 }
 
 }  // namespace

@@ -70,14 +70,14 @@ TEST(WarpedPatchSearch, FindsPointsOnAStretchedAndShearedPatchThatTheFlowLoses) 
 }
 
 TEST(WarpedPatchSearch, ReachesFartherFromThePredictionOfALargerMove) {
-  // The same stretch and shear, moved 250 px: a motion model a few percent off misses by more than the
-  // radius, and the search reaches a fifth of the move.
+  // The same stretch and shear, moved 250 px: a motion model a fifth off misses by more than the radius,
+  // and the search reaches a third of the move (up to 64 px).
   const cv::Mat prev = test::RandomTexture(900, 240, 34);
   const cv::Matx23f to_curr(kA(0, 0), kA(0, 1), 250.f - 200.f * (kA(0, 0) - 1.f), kA(1, 0), kA(1, 1), -kA(1, 0) * 200.f);
   cv::Mat curr;
   cv::warpAffine(prev, curr, to_curr, prev.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
   WarpedSearchParams params;
-  const cv::Point2f miss(params.radius_px + 12.f, 0.f);  // 36 px: beyond the radius, within a fifth of 250
+  const cv::Point2f miss(60.f, 0.f);  // beyond the radius and a fifth of 250, within a third of it
   std::vector<WarpedPatchRequest> requests;
   std::vector<cv::Point2f> truth;
   for (const cv::Point2f& p : Points()) {
