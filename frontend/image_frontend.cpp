@@ -505,6 +505,7 @@ void ImageFrontend::reacquireWarped(const cv::Mat& gray, const std::optional<SE3
   const SE3 T_curr_prev = camera_motion->inverse();
   std::vector<WarpedPatchRequest> requests;
   std::vector<size_t> index;
+  std::vector<float> deformations;
   for (size_t i = 0; i < tracks_.size(); ++i) {
     const Track& t = tracks_[i];
     if (t.object_id == 0) continue;
@@ -537,11 +538,15 @@ void ImageFrontend::reacquireWarped(const cv::Mat& gray, const std::optional<SE3
     if (!valid || deformation < params_.warped_search.min_deformation) continue;
     requests.push_back({t.px, px, cv::Matx22f(du.x, dv.x, du.y, dv.y)});
     index.push_back(i);
+    deformations.push_back(deformation);
   }
   if (requests.empty()) return;
   const std::vector<WarpedPatchMatch> found = SearchWarpedPatches(prev_gray_, gray, requests, params_.warped_search);
   for (size_t j = 0; j < found.size(); ++j) {
-    if (!found[j].ok) continue;
+    if (!found[j].ok) {
+      if (deformations[j] >= params_.warped_search.max_flow_deformation) flow->ok[index[j]] = 0;
+      continue;
+    }
     const size_t i = index[j];
     flow->ok[i] = 1;
     flow->points[i] = found[j].px;

@@ -150,7 +150,9 @@ class ImageFrontend {
   // Tracks of an object with a confirmed motion, where that motion deforms their patch (a car passing
   // close by shows a side that stretches and shears from frame to frame), are searched for around their
   // predicted pixel with their previous patch warped by the motion (SearchWarpedPatches). A match found
-  // replaces the flow's, or takes the place of a track the flow lost.
+  // replaces the flow's, or takes the place of a track the flow lost; where the patch deforms beyond
+  // what the flow can follow (WarpedSearchParams::max_flow_deformation) and the search finds nothing,
+  // the flow's match is dropped too.
   void reacquireWarped(const cv::Mat& gray, const std::optional<SE3>& camera_motion, FlowResult* flow,
                        FrontendFrameStats* stats) const;
 

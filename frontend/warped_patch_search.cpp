@@ -134,6 +134,8 @@ void WarpedSearchParams::validate() const {
   if (!(min_margin >= 0.0 && min_margin < 1.0)) throw std::invalid_argument("warped search margin must be in [0, 1)");
   if (!(min_deformation >= 0.0) || !std::isfinite(min_deformation))
     throw std::invalid_argument("frontend warped_search_min_deformation must be a finite number >= 0");
+  if (!(max_flow_deformation >= min_deformation))
+    throw std::invalid_argument("frontend warped_search_max_flow_deformation must be at least warped_search_min_deformation");
 }
 
 std::vector<WarpedPatchMatch> SearchWarpedPatches(const cv::Mat& prev_gray, const cv::Mat& curr_gray,

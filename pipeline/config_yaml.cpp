@@ -116,6 +116,8 @@ const Schema& GetSchema() {
         {"warped_search_min_ncc", Field<double>([](RunConfig& c) -> double& { return c.frontend.warped_search.min_ncc; })},
         {"warped_search_min_deformation",
          Field<double>([](RunConfig& c) -> double& { return c.frontend.warped_search.min_deformation; })},
+        {"warped_search_max_flow_deformation",
+         Field<double>([](RunConfig& c) -> double& { return c.frontend.warped_search.max_flow_deformation; })},
         {"static_cell_px", Field<int>([](RunConfig& c) -> int& { return c.frontend.static_grid.cell_px; })},
         {"static_per_cell", Field<int>([](RunConfig& c) -> int& { return c.frontend.static_grid.per_cell; })},
         {"fast_threshold", Field<int>([](RunConfig& c) -> int& { return c.frontend.static_grid.fast_threshold; })},

@@ -139,6 +139,9 @@ TEST(WarpedPatchSearch, RefusesBadInputAndParameters) {
   p = {};
   p.min_deformation = -0.1;
   EXPECT_THROW(p.validate(), std::invalid_argument);
+  p = {};
+  p.max_flow_deformation = 0.2;  // below min_deformation: no search would be asked for where it drops matches
+  EXPECT_THROW(p.validate(), std::invalid_argument);
 }
 
 }  // namespace

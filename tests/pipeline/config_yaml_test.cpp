@@ -25,6 +25,7 @@ TEST(ConfigYaml, RoundTripKeepsEveryValue) {
   c.frontend.warped_search.radius_px = 31;
   c.frontend.warped_search.min_ncc = 0.9;
   c.frontend.warped_search.min_deformation = 0.2;
+  c.frontend.warped_search.max_flow_deformation = 0.7;
   const RunConfig back = ParseRunConfig(RunConfigToYaml(c));
   EXPECT_EQ(back.backend.default_mode, MotionMode::kSmoothed);
   EXPECT_EQ(back.backend.slam_mot_mode, MotionMode::kConstant);
@@ -45,6 +46,7 @@ TEST(ConfigYaml, RoundTripKeepsEveryValue) {
   EXPECT_EQ(back.frontend.warped_search.radius_px, 31);
   EXPECT_EQ(back.frontend.warped_search.min_ncc, 0.9);
   EXPECT_EQ(back.frontend.warped_search.min_deformation, 0.2);
+  EXPECT_EQ(back.frontend.warped_search.max_flow_deformation, 0.7);
   EXPECT_EQ(RunConfigToYaml(back), RunConfigToYaml(c));
 }
 
