@@ -180,13 +180,15 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
         frame.odometry ? std::optional<SE3>(frame.odometry->T_prev_curr) : last_camera_motion_;
     PixelPrediction prediction = predictPixels(camera_motion, label_boxes);
     FlowResult flow = flow_.track(prev_gray_, gray, prev_px, prev_flow_to_next_, prediction.px);
-    // The searches for object tracks below start from where the camera's and the object's motions put
-    // them. The static tracks just found give the camera's motion more exactly than odometry or the last
-    // frame's (rendered 0005's odometry is 0.1 to 0.2 m off per frame: 10 to 20 px at a car passing 8 m
-    // away), so the predictions are made again from it.
-    if (const auto refined = cameraMotionFromStaticFlow(flow, labels, frame.odometry, camera_motion)) {
-      camera_motion = refined;
-      prediction = predictPixels(camera_motion, label_boxes);
+    // The searches for object tracks below (Lucas-Kanade's) start from where the camera's and the
+    // object's motions put them. The static tracks just found give the camera's motion more exactly than
+    // odometry or the last frame's (rendered 0005's odometry is 0.1 to 0.2 m off per frame: 10 to 20 px
+    // at a car passing 8 m away), so the predictions are made again from it.
+    if (params_.flow.method == FlowMethod::kLucasKanade) {
+      if (const auto refined = cameraMotionFromStaticFlow(flow, labels, frame.odometry, camera_motion)) {
+        camera_motion = refined;
+        prediction = predictPixels(camera_motion, label_boxes);
+      }
     }
     resolveStillHypothesis(gray, prev_px, prediction, &flow, &stats.ambiguous);
     retryNearPrediction(gray, prev_px, prediction, &flow);
