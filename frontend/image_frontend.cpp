@@ -18,6 +18,14 @@ constexpr int kObjectMotionMemoryFrames = 5;
 // Consecutive consistent fits that make an object's motion memory trusted (see acceptObjectMotion).
 constexpr int kConfirmedFits = 2;
 
+// The camera motion from PnP, fused with the odometry unless the odometry contradicts it beyond `gate_chi2`
+// (a wheel slip, a corrupt record: the static points hold the camera); `*odometry_rejected` says whether it did.
+SE3 FuseUnlessContradicted(const PnpEstimate& pnp, const std::optional<OdometryMeasurement>& odometry,
+                           double gate_chi2, bool* odometry_rejected) {
+  *odometry_rejected = odometry && OdometryDisagreementChi2(pnp, *odometry) > gate_chi2;
+  return odometry && !*odometry_rejected ? FuseCameraMotion(pnp, *odometry) : pnp.T_prev_curr;
+}
+
 // Instance labels as CV_32SC1 (negative ids, as Mask R-CNN's "-1 = none", become background).
 cv::Mat ToLabels(const cv::Mat& instance_ids, const cv::Size& size) {
   if (instance_ids.empty()) return cv::Mat(size, CV_32S, cv::Scalar(0));
@@ -259,13 +267,10 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
     stats.camera_from_pnp = true;
     for (size_t j : static_index) keep[j] = 0;
     for (int j : pnp->inliers) keep[static_index[j]] = 1;
-    // Odometry that contradicts a well-supported visual motion (a wheel slip, a corrupt record) is not
-    // fused here, and not handed to the back-end as a factor: the static points hold the camera.
-    if (frame.odometry && OdometryDisagreementChi2(*pnp, *frame.odometry) > params_.odometry_gate_chi2) {
-      stats.odometry_rejected = true;
-      odometry_rejected = true;
-    }
-    T_prev_curr = frame.odometry && !odometry_rejected ? FuseCameraMotion(*pnp, *frame.odometry) : pnp->T_prev_curr;
+    // Odometry that contradicts a well-supported visual motion is not fused here, and not handed to the
+    // back-end as a factor.
+    T_prev_curr = FuseUnlessContradicted(*pnp, frame.odometry, params_.odometry_gate_chi2, &odometry_rejected);
+    stats.odometry_rejected = odometry_rejected;
   }
 
   // 4b. Each object's motion (in the previous camera frame) by 3D-3D RANSAC; drop its outliers.
@@ -449,10 +454,8 @@ std::optional<SE3> ImageFrontend::cameraMotionFromStaticFlow(const FlowResult& f
   }
   const auto pnp = EstimateCameraMotionPnp(p_prev, uv, camera_, params_.pnp, guess);
   if (!pnp) return std::nullopt;
-  // Odometry that contradicts the static points (a wheel slip) is left out, as step 4a does.
-  if (odometry && OdometryDisagreementChi2(*pnp, *odometry) <= params_.odometry_gate_chi2)
-    return FuseCameraMotion(*pnp, *odometry);
-  return pnp->T_prev_curr;
+  bool odometry_rejected = false;
+  return FuseUnlessContradicted(*pnp, odometry, params_.odometry_gate_chi2, &odometry_rejected);
 }
 
 bool ImageFrontend::inView(double u, double v) const {
