@@ -53,9 +53,10 @@ FlowTracker::~FlowTracker() = default;
 
 namespace {
 
-// Pyramid levels of the search near a trusted prediction: enough to take up a prediction a few pixels
-// off, too few for the coarse levels' windows (8 times the window at level 3) to reach past the image
-// border or a nearby occluding edge, where they drag a point that moved far off its match.
+// The deepest pyramid level of the search near a trusted prediction (OpenCV's maxLevel: 1 is two levels):
+// enough to take up a prediction a few pixels off, too few for the coarse levels' windows (8 times the
+// window at level 3) to reach past the image border or a nearby occluding edge, where they drag a point
+// that moved far off its match.
 constexpr int kNearPredictionLevels = 1;
 
 void RequireGreyPair(const cv::Mat& prev_gray, const cv::Mat& curr_gray) {

@@ -62,8 +62,8 @@ WarpedPatchMatch SearchOne(const cv::Mat& prev_gray, const cv::Mat& curr_gray, c
   const int cv_ = static_cast<int>(std::lround(request.predicted_px.y));
   // A motion model some percent off puts a point that moves far that much farther off: the search
   // reaches a third of the predicted move when that is more than the radius (rendered 0005: a car
-  // passing at 5 to 10 m, whose label brakes by a fifth for a frame, lands 40 to 50 px from where its
-  // last motion puts it, 190 px away).
+  // passing at 5 to 10 m, whose label slows by a fifth to a quarter for a frame, lands 40 to 50 px from
+  // where its last motion puts it, 190 px away).
   const double move_px = cv::norm(request.predicted_px - request.prev_px);
   const int radius =
       std::max(params.radius_px, std::min(kMaxRadiusPx, static_cast<int>(std::ceil(kRadiusPerMove * move_px))));
