@@ -27,6 +27,8 @@ std::string FindInvalidMeasurement(const FrameMeasurement& frame) {
       return where + "object id " + std::to_string(obj.object_id) + " appears twice";
     if (!(obj.jitter_sigma_m >= 0.0 && std::isfinite(obj.jitter_sigma_m)))
       return where + "object " + std::to_string(obj.object_id) + " jitter sigma must be finite and >= 0";
+    if (obj.mask_area_frac && !(*obj.mask_area_frac >= 0.0 && *obj.mask_area_frac <= 1.0))
+      return where + "object " + std::to_string(obj.object_id) + " mask area share must be in [0, 1]";
     for (const auto& p : obj.points)
       if (!p.p_camera.allFinite())
         return where + "object " + std::to_string(obj.object_id) + " point track " + std::to_string(p.track_id) +

@@ -48,6 +48,9 @@ struct ObjectObservation {
   // structure they weigh as one landmark with this sigma, not as many independent ones.
   double jitter_sigma_m = 0.0;
   std::optional<ObjectMotionFit> motion_fit;  // from an image front-end; absent for other sources
+  // Share of the image its instance mask covers, 0..1 (an image front-end; absent for other sources).
+  // A small mask (a far car, or one mostly hidden or out of view) gives a weaker first fit.
+  std::optional<double> mask_area_frac;
 };
 
 // Odometry increment T_prev_curr = T_world_camera[k-1]^-1 * T_world_camera[k] with per-axis sigmas.

@@ -103,6 +103,8 @@ const Schema& GetSchema() {
         {"min_static_transitions",
          Field<int>([](RunConfig& c) -> int& { return c.classifier.min_static_transitions; })},
         {"min_static_inliers", Field<int>([](RunConfig& c) -> int& { return c.classifier.min_static_inliers; })},
+        {"small_object_area_pct",
+         Field<double>([](RunConfig& c) -> double& { return c.classifier.small_object_area_pct; })},
         {"motion_window_s", Field<double>([](RunConfig& c) -> double& { return c.classifier.motion_window_s; })}}},
       {"frontend",
        {{"flow_method",

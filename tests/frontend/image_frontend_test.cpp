@@ -260,6 +260,13 @@ TEST(ImageFrontend, IgnoresMasksBelowTheAreaThresholdAndObjectsBeyondRange) {
   params.min_mask_area_pct = 20.0;  // the box covers 6300 / 64000 px, under 20 %
   ImageFrontend small(params, Camera());
   EXPECT_TRUE(small.process(MakeFrame(0)).objects.empty());
+  // Under it, the object is measured, with the share of the image its mask covers (the classifier's
+  // small_object_area_pct reads it).
+  ImageFrontend measured(Params(), Camera());
+  const FrameMeasurement box = measured.process(MakeFrame(0));
+  ASSERT_EQ(box.objects.size(), 1u);
+  ASSERT_TRUE(box.objects[0].mask_area_frac.has_value());
+  EXPECT_DOUBLE_EQ(*box.objects[0].mask_area_frac, 6300.0 / 64000.0);
   params = Params();
   params.object_max_distance_m = 5.0;  // the box is 6 m away
   ImageFrontend far(params, Camera());

@@ -21,6 +21,7 @@ TEST(ConfigYaml, RoundTripKeepsEveryValue) {
   c.classifier.dynamic_speed_threshold_mps = 0.8;
   c.classifier.report_speed_threshold_mps = 1.3;
   c.classifier.min_static_transitions = 3;
+  c.classifier.small_object_area_pct = 1.5;
   c.backend.linear_solver = LinearSolver::kSchur;
   c.frontend.warped_search.radius_px = 31;
   c.frontend.warped_search.min_ncc = 0.9;
@@ -42,6 +43,7 @@ TEST(ConfigYaml, RoundTripKeepsEveryValue) {
   EXPECT_EQ(back.classifier.dynamic_speed_threshold_mps, 0.8);
   EXPECT_EQ(back.classifier.report_speed_threshold_mps, 1.3);
   EXPECT_EQ(back.classifier.min_static_transitions, 3);
+  EXPECT_EQ(back.classifier.small_object_area_pct, 1.5);
   EXPECT_EQ(back.backend.linear_solver, LinearSolver::kSchur);
   EXPECT_EQ(back.frontend.warped_search.radius_px, 31);
   EXPECT_EQ(back.frontend.warped_search.min_ncc, 0.9);

@@ -35,6 +35,14 @@ TEST(OnlineBackend, ARefusedFrameChangesNothingAndTheNextFramesEstimatesAreAsIfI
       } catch (const std::invalid_argument& e) {
         EXPECT_NE(std::string(e.what()).find("is not finite"), std::string::npos) << e.what();
       }
+      FrameMeasurement wrong_area = seq.frames[k];  // a mask over more than the whole image
+      wrong_area.objects[0].mask_area_frac = 1.5;
+      try {
+        refusing.add(&wrong_area);
+        FAIL() << "accepted a mask area share of 1.5";
+      } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("mask area share must be in [0, 1]"), std::string::npos) << e.what();
+      }
       FrameMeasurement skipped = seq.frames[k];
       skipped.frame_index = k + 1;  // out of sequence
       EXPECT_THROW(refusing.add(&skipped), std::invalid_argument);
