@@ -245,17 +245,22 @@ TEST(DynamicObjectClassifier, ASmallMaskIsReportedMovingAtOnceOnlyWhenEvenTheLow
   // about 2.7 m/s. Under small_object_area_pct (a far car, or a sliver of one) that waits for support;
   // with a large mask, or no mask (simulation, replay), it is reported at once. Seen through 5 mm, or
   // at 10 m/s, a small one is reported at once too: the rule weighs the fit's uncertainty, not the area.
+  // With the rule off (0 %) the small, noisy one is reported at once.
   struct Case {
     double step_m, noise_m;
     std::optional<double> mask_area_frac;
+    double small_object_area_pct;
     ReportedMotion expected;
   };
-  for (const Case& t : {Case{0.35, 0.08, 0.01, ReportedMotion::kUnsupported},
-                        Case{0.35, 0.08, 0.03, ReportedMotion::kMoving},
-                        Case{0.35, 0.08, std::nullopt, ReportedMotion::kMoving},
-                        Case{0.35, 0.005, 0.01, ReportedMotion::kMoving},
-                        Case{1.0, 0.08, 0.01, ReportedMotion::kMoving}}) {
-    DynamicObjectClassifier c(ClassifierParams{}, 10.0);
+  for (const Case& t : {Case{0.35, 0.08, 0.01, 2.0, ReportedMotion::kUnsupported},
+                        Case{0.35, 0.08, 0.03, 2.0, ReportedMotion::kMoving},
+                        Case{0.35, 0.08, std::nullopt, 2.0, ReportedMotion::kMoving},
+                        Case{0.35, 0.005, 0.01, 2.0, ReportedMotion::kMoving},
+                        Case{1.0, 0.08, 0.01, 2.0, ReportedMotion::kMoving},
+                        Case{0.35, 0.08, 0.01, 0.0, ReportedMotion::kMoving}}) {
+    ClassifierParams params;
+    params.small_object_area_pct = t.small_object_area_pct;
+    DynamicObjectClassifier c(params, 10.0);
     TwoFrames f = MakeFrames(SE3(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, t.step_m)), true, false);
     std::mt19937_64 rng(17);
     std::normal_distribution<double> n(0.0, t.noise_m);
@@ -263,21 +268,10 @@ TEST(DynamicObjectClassifier, ASmallMaskIsReportedMovingAtOnceOnlyWhenEvenTheLow
       for (auto& p : frame->objects[0].points) p.p_camera += Vec3(n(rng), n(rng), n(rng));
     f.curr.objects[0].mask_area_frac = t.mask_area_frac;
     c.label(f.prev, &f.curr);
-    EXPECT_EQ(f.curr.objects[0].reported, t.expected)
-        << t.step_m << " m, " << t.noise_m << " m noise, mask " << t.mask_area_frac.value_or(-1.0);
+    EXPECT_EQ(f.curr.objects[0].reported, t.expected) << t.step_m << " m, " << t.noise_m << " m noise, mask "
+                                                      << t.mask_area_frac.value_or(-1.0) << ", rule "
+                                                      << t.small_object_area_pct << " %";
   }
-  // With the rule off (0 %) the small, noisy one is reported at once.
-  ClassifierParams off;
-  off.small_object_area_pct = 0.0;
-  DynamicObjectClassifier c(off, 10.0);
-  TwoFrames f = MakeFrames(SE3(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, 0.35)), true, false);
-  std::mt19937_64 rng(17);
-  std::normal_distribution<double> n(0.0, 0.08);
-  for (FrameMeasurement* frame : {&f.prev, &f.curr})
-    for (auto& p : frame->objects[0].points) p.p_camera += Vec3(n(rng), n(rng), n(rng));
-  f.curr.objects[0].mask_area_frac = 0.01;
-  c.label(f.prev, &f.curr);
-  EXPECT_EQ(f.curr.objects[0].reported, ReportedMotion::kMoving);
 }
 
 TEST(DynamicObjectClassifier, ASlowObjectStaysOutOfTheStaticMapButIsReportedMovingOnlyFromTheReportsSpeed) {
