@@ -11,6 +11,7 @@
 #include "backend/factors/point_measurement_factor.h"
 #include "backend/factors/point_motion_factor.h"
 #include "backend/factors/pose_block.h"
+#include "backend/factors/pose_manifold.h"
 #include "backend/factors/pose_prior_factor.h"
 
 namespace dslam {

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <ceres/autodiff_cost_function.h>
+
 #include "backend/factors/pose_block.h"
 
 namespace dslam {

@@ -1,9 +1,8 @@
 #pragma once
 // Layout of SE(3) parameter blocks shared by every factor and the manifold:
 // [qx, qy, qz, qw, tx, ty, tz] (Eigen quaternion storage order, then translation).
-// Templated so that Ceres' autodiff Jets flow through; every factor's residual builds on these.
-
-#include <ceres/ceres.h>
+// Templated so that Ceres' autodiff Jets flow through; every factor's residual builds on these. Free of
+// Ceres' headers, as most of the code that includes it never builds a problem (the manifold: pose_manifold.h).
 
 #include <array>
 
@@ -44,11 +43,6 @@ inline Eigen::Matrix<double, 6, 1> PoseBlockMinus(const double* x, const double*
   d.head<3>() = BlockTranslation(x) - BlockTranslation(x0);
   d.tail<3>() = RotationLog(q0.conjugate() * q);
   return d;
-}
-
-// Product of Eigen's quaternion manifold and R^3, matching the block layout above.
-inline ceres::Manifold* NewPoseManifold() {
-  return new ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>();
 }
 
 template <typename T>

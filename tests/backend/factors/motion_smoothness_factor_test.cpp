@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "backend/factor_graph.h"
+#include "backend/factors/pose_manifold.h"
 #include "support/factor_checks.h"
 
 namespace dslam {

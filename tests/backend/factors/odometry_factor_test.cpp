@@ -4,6 +4,7 @@
 
 #include <memory>
 
+#include "backend/factors/pose_manifold.h"
 #include "backend/factors/pose_prior_factor.h"
 #include "support/factor_checks.h"
 

@@ -4,6 +4,7 @@
 
 #include <memory>
 
+#include "backend/factors/pose_manifold.h"
 #include "support/factor_checks.h"
 
 namespace dslam {
