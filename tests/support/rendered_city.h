@@ -64,14 +64,14 @@ inline std::string RenderedCityIn(const std::string& cache, const std::string& k
 }
 
 // `stereo_and_exact_flow`: also the right camera (image_1/) and the exact flow (flow/), for the study.
-// `name` names the scene within a test; in the shared cache the directory's name also carries every parameter,
-// so that two tests asking for different scenes under one name never share one.
+// `name` names the scene within this process. In the shared cache a scene is named by its parameters alone, as
+// rendering is deterministic: tests that ask for the same scene under different names share it.
 inline std::string RenderedCity(const std::string& name, int frames, uint64_t seed = 1,
                                 bool stereo_and_exact_flow = false, double scale = 1.0) {
   const char* cache = std::getenv("DSLAM_TEST_RENDER_CACHE");
   if (cache && *cache) {
     std::ostringstream key;
-    key << name << "_f" << frames << "_s" << seed << (stereo_and_exact_flow ? "_stereo" : "") << "_x" << scale;
+    key << "city_f" << frames << "_s" << seed << (stereo_and_exact_flow ? "_stereo" : "") << "_x" << scale;
     return RenderedCityIn(cache, key.str(), frames, seed, stereo_and_exact_flow, scale);
   }
   const std::string dir = TempPath(name);
