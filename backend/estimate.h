@@ -3,8 +3,10 @@
 // estimated world position of every point observation (for the structure error).
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
+#include "data/measurements.h"
 #include "geometry/se3.h"
 
 namespace dslam {
@@ -22,6 +24,10 @@ struct ObjectMotionEstimate {
   // created), the rotation perturbed on the right; zero when unknown (batch, or reported standing).
   Mat6 covariance = Mat6::Zero();
   double speed_sigma_mps = 0.0;  // of speed_mps, from `covariance`; 0 when unknown
+  // Where the object is in frame `frame`, from its measurement: the centroid of its measured points in
+  // that frame's camera, and its box in that image (absent when the source gives no image).
+  Vec3 centroid_camera = Vec3::Zero();
+  std::optional<ImageBox> image_box;
 
   // The tracked points' centroid at `frame`: moved rigidly by H from frame - 1.
   Vec3 centroidWorld() const { return H_world * centroid_prev_world; }

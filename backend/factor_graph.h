@@ -152,6 +152,10 @@ struct ObjectTransition {
   // Set once the variables at k-1 leave the smoother's window (their final centroid).
   std::optional<Vec3> centroid_prev_world;
   ReportedMotion reported = ReportedMotion::kMoving;  // ObjectObservation::reported
+  // What the measurement at k says of where the object is (carried to the results, not estimated): the
+  // centroid of its measured points in camera k, and its box in image k when the source gives one.
+  Vec3 centroid_camera = Vec3::Zero();
+  std::optional<ImageBox> image_box;
 
   // Whether the transition's motion reaches the result sinks: it has an estimate and is supported.
   bool reportable() const { return !(is_dynamic && motion_var < 0) && reported != ReportedMotion::kUnsupported; }

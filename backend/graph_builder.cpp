@@ -5,6 +5,16 @@
 #include "backend/factors/pose_block.h"
 
 namespace dslam {
+namespace {
+// Where the measurement puts the object, carried to its results.
+void DescribeFromMeasurement(const ObjectObservation& obs, ObjectTransition* transition) {
+  Vec3 sum = Vec3::Zero();
+  for (const PointObservation& p : obs.points) sum += p.p_camera;
+  if (!obs.points.empty()) transition->centroid_camera = sum / static_cast<double>(obs.points.size());
+  transition->image_box = obs.image_box;
+}
+}  // namespace
+
 GraphBuilder::GraphBuilder(const BackendParams& params, const BuilderOptions& options, FactorGraph* graph)
     : params_(params), options_(options), graph_(graph) {
   graph_->prior_sigma = Vec6::Constant(params.noise.prior_sigma);
@@ -101,6 +111,7 @@ void GraphBuilder::addObject(const ObjectObservation& obs, int frame, const SE3&
   if (consecutive && !obs.is_dynamic) {
     // Static over k-1 -> k: the object's points keep their variables and act as static structure.
     ObjectTransition transition{obs.object_id, frame, false, -1, {}, std::nullopt};
+    DescribeFromMeasurement(obs, &transition);
     for (size_t i = 0; i < obs.points.size(); ++i) {
       if (prev_vars[i] >= 0) {
         curr_vars[i] = prev_vars[i];
@@ -138,6 +149,7 @@ void GraphBuilder::addObject(const ObjectObservation& obs, int frame, const SE3&
 void GraphBuilder::addDynamicTransition(const ObjectObservation& obs, int frame, ObjectTrackState& state,
                                         const std::vector<int>& prev_vars, const std::vector<int>& curr_vars) {
   ObjectTransition transition{obs.object_id, frame, true, -1, {}, std::nullopt, obs.reported};
+  DescribeFromMeasurement(obs, &transition);
   std::vector<Vec3> src, dst;
   std::vector<size_t> pair_index;
   for (size_t i = 0; i < obs.points.size(); ++i) {

@@ -69,6 +69,8 @@ ObjectMotionEstimate MotionEstimateOf(const FactorGraph& graph, const ObjectTran
   // Reported as estimated only when the classifier calls it moving; a jittering parked car is estimated
   // with its own motion (so that it does not pull the camera) but reported standing.
   m.is_dynamic = tr.is_dynamic && tr.reported == ReportedMotion::kMoving;
+  m.centroid_camera = tr.centroid_camera;
+  m.image_box = tr.image_box;
   if (m.is_dynamic) m.H_world = graph.motions.at(tr.motion_var).worldMotion();
   const std::optional<Vec3> centroid = tr.centroid_prev_world ? tr.centroid_prev_world : Centroid(graph, tr.prev_point_vars);
   m.centroid_prev_world = centroid.value_or(Vec3::Zero());

@@ -30,6 +30,11 @@ struct ObjectMotionFit {
 
 enum class ReportedMotion { kMoving, kStanding, kUnsupported };
 
+// An object's bounding box in the image, pixels (x, y: its top-left corner).
+struct ImageBox {
+  int x = 0, y = 0, width = 0, height = 0;
+};
+
 // Points that fall inside one instance mask.
 struct ObjectObservation {
   int object_id = 0;
@@ -51,6 +56,9 @@ struct ObjectObservation {
   // Share of the image its instance mask covers, 0..1 (an image front-end; absent for other sources).
   // A small mask (a far car, or one mostly hidden or out of view) gives a weaker first fit.
   std::optional<double> mask_area_frac;
+  // The box around its instance mask (an image front-end; absent for other sources): with the centroid of
+  // its points it tells a user which object of the image a result row is about.
+  std::optional<ImageBox> image_box;
 };
 
 // Odometry increment T_prev_curr = T_world_camera[k-1]^-1 * T_world_camera[k] with per-axis sigmas.

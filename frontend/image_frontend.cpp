@@ -231,8 +231,11 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
   }
   const std::map<int, int> object_of_label = associator_.associate(label_areas, votes, tracked_per_object);
   std::map<int, double> mask_area_frac;  // object id -> share of the image its mask covers
-  for (const auto& [label, object_id] : object_of_label)
+  std::map<int, cv::Rect> object_box;    // object id -> the box around its labels
+  for (const auto& [label, object_id] : object_of_label) {
     mask_area_frac[object_id] += static_cast<double>(label_areas.at(label)) / static_cast<double>(labels.total());
+    if (const auto box = label_boxes.find(label); box != label_boxes.end()) object_box[object_id] |= box->second;
+  }
 
   // 3. Keep tracks whose pixel still belongs to what they belong to, with depth in range.
   std::vector<Track> kept;           // current pixel; p_camera still at the previous frame
@@ -345,6 +348,8 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
     obs.object_id = object_id;
     if (const auto fit = fits.find(object_id); fit != fits.end()) obs.motion_fit = fit->second;
     if (const auto area = mask_area_frac.find(object_id); area != mask_area_frac.end()) obs.mask_area_frac = area->second;
+    if (const auto box = object_box.find(object_id); box != object_box.end())
+      obs.image_box = ImageBox{box->second.x, box->second.y, box->second.width, box->second.height};
     measured.insert(object_id);
     stats.object_counts[object_id].measured = true;
     out.objects.push_back(std::move(obs));

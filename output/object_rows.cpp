@@ -30,6 +30,16 @@ void PutObjectRows(std::ostream& motions, std::ostream& speeds, int object_id, i
   speeds << ',';
   if (gt) speeds << gt->speed_gt_mps;
   PutSpeedSigma(speeds, est ? est->speed_sigma_mps : 0.0);
+  speeds << ',';
+  if (est && !est->centroid_camera.isZero(0.0))
+    speeds << est->centroid_camera.x() << ',' << est->centroid_camera.y() << ',' << est->centroid_camera.z();
+  else
+    speeds << ",,";
+  speeds << ',';
+  if (est && est->image_box)
+    speeds << est->image_box->x << ',' << est->image_box->y << ',' << est->image_box->width << ',' << est->image_box->height;
+  else
+    speeds << ",,,";
   speeds << '\n';
 }
 

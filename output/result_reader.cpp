@@ -1,5 +1,6 @@
 #include "output/result_reader.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -116,6 +117,12 @@ RunResults ReadRunResults(const std::string& dir) {
       ReadCsv(speeds_path, {"frame", "object_id", "is_dynamic", "est_speed_mps", "gt_speed_mps"});
   std::optional<size_t> sigma_column;
   if (speeds.header.size() > 5 && speeds.header[5] == "speed_sigma_mps") sigma_column = 5;
+  // The centroid and box columns, in files that have them (written since they were added).
+  std::optional<size_t> centroid_column, box_column;
+  const auto at = std::find(speeds.header.begin(), speeds.header.end(), "centroid_x_m");
+  if (at != speeds.header.end() && speeds.header.end() - at >= 3) centroid_column = static_cast<size_t>(at - speeds.header.begin());
+  const auto box_at = std::find(speeds.header.begin(), speeds.header.end(), "box_x");
+  if (box_at != speeds.header.end() && speeds.header.end() - box_at >= 4) box_column = static_cast<size_t>(box_at - speeds.header.begin());
   for (size_t i = 0; i < speeds.rows.size(); ++i) {
     const auto& row = speeds.rows[i];
     const int line = speeds.line_numbers[i];
@@ -127,6 +134,16 @@ RunResults ReadRunResults(const std::string& dir) {
     if (s.estimated) s.est_mps = ParseDouble(row[3], speeds_path, line, "estimated speed");
     if (sigma_column && !row[*sigma_column].empty())
       s.sigma_mps = ParseDouble(row[*sigma_column], speeds_path, line, "speed sigma");
+    if (centroid_column && !row[*centroid_column].empty()) {
+      Vec3 c;
+      for (int a = 0; a < 3; ++a) c[a] = ParseDouble(row[*centroid_column + a], speeds_path, line, "centroid");
+      s.centroid_camera = c;
+    }
+    if (box_column && !row[*box_column].empty()) {
+      std::array<int, 4> b{};
+      for (int a = 0; a < 4; ++a) b[a] = ParseInt(row[*box_column + a], speeds_path, line, "image box");
+      s.box = b;
+    }
     if (!r.has_ground_truth) {
       if (s.estimated) r.speeds.push_back(s);
       continue;

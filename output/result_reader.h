@@ -2,7 +2,9 @@
 // Reads back the result files a run wrote (see output/run_report.h), for figures and reports.
 // Errors throw std::runtime_error naming the file and line.
 
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +30,8 @@ struct RunResults {
     bool estimated = false, is_dynamic = false;
     double est_mps = 0.0, gt_mps = 0.0;
     double sigma_mps = 0.0;  // of the estimate; 0 when unknown (or written before the column existed)
+    std::optional<Vec3> centroid_camera;  // where the object is in the frame's camera, when written
+    std::optional<std::array<int, 4>> box;  // x, y, width, height in the image, when written
   };
   std::vector<SpeedRow> speeds;
   struct MotionRow {

@@ -23,7 +23,12 @@ inline std::string FormatFixed(const std::optional<double>& value, int precision
 constexpr const char* kObjectMotionsHeader =
     "frame,object_id,is_dynamic,est_tx,est_ty,est_tz,est_qx,est_qy,est_qz,est_qw,"
     "gt_tx,gt_ty,gt_tz,gt_qx,gt_qy,gt_qz,gt_qw,est_sigma_tx,est_sigma_ty,est_sigma_tz,est_sigma_rx,est_sigma_ry,est_sigma_rz";
-constexpr const char* kObjectSpeedsHeader = "frame,object_id,is_dynamic,est_speed_mps,gt_speed_mps,speed_sigma_mps";
+// object_speeds.csv also says where the object is: the centroid of its measured points in the frame's
+// camera (centroid_x_m ... ; x right, y down, z forward) and its box in the image (box_x, box_y: top-left
+// corner, pixels), blank when unknown.
+constexpr const char* kObjectSpeedsHeader =
+    "frame,object_id,is_dynamic,est_speed_mps,gt_speed_mps,speed_sigma_mps,centroid_x_m,centroid_y_m,centroid_z_m,"
+    "box_x,box_y,box_w,box_h";
 
 template <typename Covariance>
 void PutMotionSigmas(std::ostream& out, const Covariance* covariance) {
