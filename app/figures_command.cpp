@@ -1,6 +1,8 @@
 #include "app/figures_command.h"
 
+#include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <exception>
 
 #include "output/report_html.h"
@@ -38,6 +40,15 @@ int RunFiguresCommand(const std::string& dir, const FigureOptions& options, std:
       files.insert(files.end() - 1, "errors.png");
     }
     DrawMapFigure(results, dir + "/map.png", options);
+    // Frames with the objects drawn on them, when the run wrote some (dslam run on images).
+    std::vector<std::string> frames;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+      const std::string name = entry.path().filename().string();
+      if (name.rfind("frame_", 0) == 0 && entry.path().extension() == ".png" && name.find(".partial") == std::string::npos)
+        frames.push_back(name);
+    }
+    std::sort(frames.begin(), frames.end());
+    files.insert(files.end(), frames.begin(), frames.end());
     WriteReportHtml(results, files, dir + "/report.html");
     std::string list;
     for (const auto& f : files) list += f + ", ";

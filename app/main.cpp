@@ -6,6 +6,7 @@
 #include "app/dds_commands.h"
 #include "app/figures_command.h"
 #include "app/kitti_replay_command.h"
+#include "app/lidar_check_command.h"
 #include "app/render_scene_command.h"
 #include "app/run_command.h"
 #include "app/sim_command.h"
@@ -83,6 +84,25 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   figures_cmd->add_option("--width", figures.width, "Width in pixels at scale 1")->check(CLI::Range(200, 8000))->capture_default_str();
   figures_cmd->add_option("--height", figures.height, "Height in pixels at scale 1")->check(CLI::Range(150, 8000))->capture_default_str();
+
+  dslam::LidarCheckCommandOptions lidar_check;
+  CLI::App* lidar_check_cmd = app.add_subcommand(
+      "lidar-check", "LiDAR-only reference of a recording (ego-motion from scan registration, each cluster's speed) "
+                     "and, with --run, a run on it checked against that reference");
+  lidar_check_cmd->add_option("--dataset", lidar_check.dataset_dir, "Recording with LiDAR scans (kitti-raw layout: "
+                                                                    "image_02/, velodyne_points/, calib.txt)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  lidar_check_cmd->add_option("--run", lidar_check.run_dir, "Result folder of a dslam run on that recording")
+      ->check(CLI::ExistingDirectory);
+  lidar_check_cmd->add_option("--config", lidar_check.config_path,
+                              "The run's YAML configuration (its masks.lidar_* keys shape the clusters)")
+      ->check(CLI::ExistingFile);
+  lidar_check_cmd->add_option("--frames", lidar_check.frames, "Scans to use (0: all)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  lidar_check_cmd->add_option("--out", lidar_check.out_dir, "Output directory")->capture_default_str();
+  lidar_check_cmd->add_flag("--quiet", lidar_check.quiet, "Print only the results and errors");
 
   dslam::RenderSceneOptions render;
   CLI::App* render_cmd = app.add_subcommand(
@@ -266,5 +286,6 @@ int main(int argc, char** argv) {
   if (sim_cmd->parsed()) return dslam::RunSimCommand(sim, std::cout, std::cerr);
   if (replay_cmd->parsed()) return dslam::RunKittiReplayCommand(replay, std::cout, std::cerr);
   if (figures_cmd->parsed()) return dslam::RunFiguresCommand(figures_dir, figures, std::cout, std::cerr);
+  if (lidar_check_cmd->parsed()) return dslam::RunLidarCheckCommand(lidar_check, std::cout, std::cerr);
   return 0;
 }

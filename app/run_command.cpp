@@ -1,16 +1,36 @@
 #include "app/run_command.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <chrono>
 #include <exception>
 #include <fstream>
 
+#include "output/frame_overlay.h"
 #include "output/object_summary.h"
 #include "output/streaming_sink.h"
 #include "pipeline/image_run.h"
 #include "pipeline/run_sequence.h"
 
 namespace dslam {
+namespace {
+
+// A few frames with each object's mask, id and speed drawn on them (frame_NNNNNN.png), for the report.
+void WriteFrameOverlays(const ImageDataset& dataset, const RunConfig& config, const Estimate& ours, int frames,
+                        const std::string& dir) {
+  for (int k : OverlayFrames(frames, 4)) {
+    ImageFrame frame = dataset.read(k);
+    ApplyMaskSource(config.masks, dataset.camera(), frame);
+    std::vector<ObjectMotionEstimate> here;
+    for (const ObjectMotionEstimate& m : ours.object_motions)
+      if (m.frame == k) here.push_back(m);
+    char name[32];
+    std::snprintf(name, sizeof name, "/frame_%06d.png", k);
+    WriteOverlayPng(DrawObjectOverlay(frame.image, frame.instance_ids, here), dir + name);
+  }
+}
+
+}  // namespace
 
 int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostream& err) {
   try {
@@ -73,6 +93,9 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
                         {"median_fb_error_px", summary.median_fb_error_px}};
     info["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     WriteRunOutputs(options.out_dir, seq, outcomes, info);
+    if (with_ours && (dataset.hasMasks() || config.masks.source != MaskSourceKind::kDataset))
+      WriteFrameOverlays(dataset, config, outcomes.at(Method::kOurs).result.estimate, static_cast<int>(seq.frames.size()),
+                         options.out_dir);
 
     out << "Front-end: " << summary.frontend_ms_per_frame << " ms/frame (reading " << summary.read_ms_per_frame
         << " ms/frame), " << summary.mean_static_tracks << " static and " << summary.mean_object_points

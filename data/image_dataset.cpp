@@ -193,6 +193,9 @@ ImageDataset::ImageDataset(const std::string& dir, const ImageDatasetOptions& op
         Mat4 rect = Mat4::Identity();
         rect.topLeftCorner<3, 3>() = calib->R_rect;
         P_camera_lidar_ = calib->P[2] * rect * calib->T_cam_velo;
+        // P2 = K [I | t]: the metric transform into the left colour camera is K^-1 P2 R_rect T_cam_velo.
+        Eigen::Matrix3d K = calib->P[2].leftCols<3>();
+        T_camera_lidar_ = K.inverse() * P_camera_lidar_;
       } else if (fs::is_directory(root / "image_03")) {
         rights_ = Matching(images_, root / "image_03", ".png", images_.size());
         depth_kind_ = DepthKind::kStereo;
@@ -228,7 +231,7 @@ ImageDataset::ImageDataset(const std::string& dir, const ImageDatasetOptions& op
                              " camera poses for " + std::to_string(size()) + " images");
 }
 
-cv::Mat ImageDataset::readDepth(int k, const cv::Mat& left) const {
+cv::Mat ImageDataset::readDepth(int k, const cv::Mat& left, ImageFrame* frame) const {
   switch (depth_kind_) {
     case DepthKind::kPngDepthMm:
     case DepthKind::kPngDisparity: {
@@ -244,9 +247,16 @@ cv::Mat ImageDataset::readDepth(int k, const cv::Mat& left) const {
         throw std::runtime_error(rights_[k] + " is " + Size(right) + " but the left image is " + Size(left));
       return DepthFromStereo(left, right, camera_.fx, baseline_m_, options_.stereo);
     }
-    case DepthKind::kLidar:
-      return FillSparseDepth(DepthFromLidar(ReadVelodyneScan(depths_[k]), P_camera_lidar_, left.cols, left.rows),
-                             options_.lidar_fill_radius_px);
+    case DepthKind::kLidar: {
+      const std::vector<Eigen::Vector4f> scan = ReadVelodyneScan(depths_[k]);
+      const Eigen::Matrix3f R = T_camera_lidar_.leftCols<3>().cast<float>();
+      const Eigen::Vector3f t = T_camera_lidar_.col(3).cast<float>();
+      frame->lidar_points_camera.resize(scan.size());
+      for (size_t i = 0; i < scan.size(); ++i) frame->lidar_points_camera[i] = R * scan[i].head<3>() + t;
+      frame->lidar_origin_camera = t;
+      frame->lidar_up_camera = R.col(2);
+      return FillSparseDepth(DepthFromLidar(scan, P_camera_lidar_, left.cols, left.rows), options_.lidar_fill_radius_px);
+    }
   }
   return {};
 }
@@ -287,7 +297,7 @@ ImageFrame ImageDataset::read(int k) const {
   if (frame.image.cols != camera_.width || frame.image.rows != camera_.height)
     throw std::runtime_error(images_[k] + " is " + Size(frame.image) + " but the sequence's images are " +
                              std::to_string(camera_.width) + "x" + std::to_string(camera_.height));
-  frame.depth_m = readDepth(k, frame.image);
+  frame.depth_m = readDepth(k, frame.image, &frame);
   if (frame.depth_m.size() != frame.image.size())
     throw std::runtime_error((depths_.empty() ? rights_[k] : depths_[k]) + ": depth is " + Size(frame.depth_m) +
                              " but the image is " + Size(frame.image));

@@ -50,6 +50,7 @@ class ImageDataset {
   bool hasMasks() const { return mask_kind_ != MaskKind::kNone; }
   bool hasOdometry() const { return !odometry_.empty(); }
   bool hasFlow() const { return !flows_.empty(); }
+  bool hasLidar() const { return depth_kind_ == DepthKind::kLidar; }
 
   // Frame k (0-based): throws std::runtime_error naming the file that is missing, unreadable or of the
   // wrong size or pixel type.
@@ -71,7 +72,7 @@ class ImageDataset {
   enum class MaskKind { kNone, kPng16, kSemanticText, kLabelBoxes };
   enum class DepthKind { kPngDepthMm, kPngDisparity, kStereo, kLidar };
 
-  cv::Mat readDepth(int k, const cv::Mat& left) const;
+  cv::Mat readDepth(int k, const cv::Mat& left, ImageFrame* frame) const;
   cv::Mat readMask(int k) const;
 
   ImageDatasetOptions options_;
@@ -79,6 +80,7 @@ class ImageDataset {
   PinholeCamera camera_;
   double baseline_m_ = 0.0;
   Eigen::Matrix<double, 3, 4> P_camera_lidar_ = Eigen::Matrix<double, 3, 4>::Zero();
+  Eigen::Matrix<double, 3, 4> T_camera_lidar_ = Eigen::Matrix<double, 3, 4>::Zero();  // metric, [R | t]
   std::vector<std::string> images_, depths_, masks_, flows_, rights_;
   DepthKind depth_kind_ = DepthKind::kPngDepthMm;
   MaskKind mask_kind_ = MaskKind::kNone;

@@ -6,6 +6,9 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
+
+#include <Eigen/Core>
 
 #include <opencv2/core.hpp>
 
@@ -21,6 +24,11 @@ struct ImageFrame {
   cv::Mat instance_ids;  // CV_16UC1 or CV_32SC1; 0 (or negative) = background; empty = no segmentation
   cv::Mat flow_to_next;  // optional CV_32FC2 dense flow from this frame to the next, pixels
   std::optional<OdometryMeasurement> odometry;  // T_prev_curr; absent on the first frame or without odometry
+  // The LiDAR scan taken with the image, in this camera's frame (metres), when the source has one; the
+  // LiDAR's centre in the same frame. Masks from geometry (lidar/lidar_masks.h) are made from it.
+  std::vector<Eigen::Vector3f> lidar_points_camera;
+  Eigen::Vector3f lidar_origin_camera = Eigen::Vector3f::Zero();
+  Eigen::Vector3f lidar_up_camera = Eigen::Vector3f(0.0f, -1.0f, 0.0f);  // the LiDAR's z axis (its elevations' zero)
 };
 
 // Empty when the frame is usable; otherwise a message saying what is wrong (missing image, unsupported

@@ -121,6 +121,7 @@ Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, 
     for (int k = 0; k < frames; ++k) {
       const auto t0 = Clock::now();
       ImageFrame frame = dataset.read(k);
+      ApplyMaskSource(config.masks, dataset.camera(), frame);
       read_s += SecondsSince(t0);
       if (!pipeline.push(std::move(frame))) break;  // a stage failed: finish() throws its error
     }
@@ -131,7 +132,8 @@ Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, 
     ImageFrontend frontend(frontend_params, dataset.camera());
     for (int k = 0; k < frames; ++k) {
       const auto t0 = Clock::now();
-      const ImageFrame frame = dataset.read(k);
+      ImageFrame frame = dataset.read(k);
+      ApplyMaskSource(config.masks, dataset.camera(), frame);
       const auto t1 = Clock::now();
       const FrameMeasurement m = frontend.process(frame);
       read_s += std::chrono::duration<double>(t1 - t0).count();

@@ -5,6 +5,7 @@
 #include "data/image_dataset.h"
 #include "frontend/dynamic_object_classifier.h"
 #include "frontend/frontend_params.h"
+#include "pipeline/mask_source.h"
 
 namespace dslam {
 
@@ -13,11 +14,18 @@ struct RunConfig {
   ClassifierParams classifier;
   FrontendParams frontend;      // image runs only
   ImageDatasetOptions dataset;  // image runs only
+  MaskSourceParams masks;       // image runs only
   void validate() const {
     backend.validate();
     classifier.validate();
     frontend.validate();
     dataset.validate();
+    masks.validate();
+    // Masks made per frame number their objects anew each frame: only the front-end's association
+    // (flow-propagated overlap) can keep an object's id.
+    if (masks.source == MaskSourceKind::kLidarClusters && frontend.association.mask_ids_tracked)
+      throw std::invalid_argument(
+          "masks.source lidar_clusters numbers objects per frame: set frontend.mask_ids_tracked to false");
   }
 };
 

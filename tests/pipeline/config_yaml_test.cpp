@@ -89,6 +89,31 @@ TEST(ConfigYaml, BadInputIsAClearError) {
   ExpectError("frontend:\n  warped_search_min_ncc: 1.5\n", "warped_search_min_ncc");
 }
 
+TEST(ConfigYaml, MaskSourceAndLidarKeysRoundTripAndAreChecked) {
+  const RunConfig c = ParseRunConfig(
+      "frontend: {mask_ids_tracked: false}\n"
+      "masks: {source: lidar_clusters, lidar_cluster_tolerance_m: 0.4, lidar_grow_px: 5, lidar_min_cluster_points: 30}\n");
+  EXPECT_EQ(c.masks.source, MaskSourceKind::kLidarClusters);
+  EXPECT_EQ(c.masks.lidar.segmentation.cluster_tolerance_m, 0.4);
+  EXPECT_EQ(c.masks.lidar.grow_px, 5);
+  EXPECT_EQ(c.masks.lidar.segmentation.min_cluster_points, 30);
+  EXPECT_EQ(RunConfigToYaml(ParseRunConfig(RunConfigToYaml(c))), RunConfigToYaml(c));
+  // Masks numbered per frame with ids taken as tracked would give a new object every frame.
+  try {
+    ParseRunConfig("masks: {source: lidar_clusters}\n", "cfg.yaml");
+    FAIL() << "accepted lidar_clusters with mask_ids_tracked";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("mask_ids_tracked"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ParseRunConfig("masks: {source: network}\n"), std::invalid_argument);
+  EXPECT_THROW(ParseRunConfig("masks: {lidar_cluster_tolerance_m: -1}\n"), std::invalid_argument);
+  EXPECT_THROW(ParseRunConfig("masks: {lidar_grow_px: 500}\n"), std::invalid_argument);
+  // The shipped configuration for KITTI with a Velodyne and no masks uses it.
+  const RunConfig traffic = LoadRunConfig(std::string(DSLAM_SOURCE_DIR) + "/config/kitti_raw_traffic.yaml");
+  EXPECT_EQ(traffic.masks.source, MaskSourceKind::kLidarClusters);
+  EXPECT_FALSE(traffic.frontend.association.mask_ids_tracked);
+}
+
 TEST(ConfigYaml, MissingFileIsAnError) {
   EXPECT_THROW(LoadRunConfig("/nonexistent/dslam.yaml"), std::invalid_argument);
 }

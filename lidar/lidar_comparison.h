@@ -1,0 +1,56 @@
+#pragma once
+// A run on a recording without ground truth, checked against the LiDAR-only reference
+// (lidar/lidar_reference.h): the camera's path against the scans' registration, and each object's speed
+// against the speed of the LiDAR cluster at the same place.
+
+#include <optional>
+#include <vector>
+
+#include "geometry/se3.h"
+#include "lidar/lidar_reference.h"
+
+namespace dslam {
+
+// One row of a run's object_speeds.csv.
+struct RunObjectRow {
+  int frame = 0, object_id = 0;
+  bool moving = false;  // reported moving (is_dynamic)
+  double speed_mps = 0.0;
+  std::optional<Vec3> centroid_camera;
+};
+
+struct LidarCheckParams {
+  double vehicle_max_distance_m = 25.0;  // vehicles nearer than this are scored
+  int min_track_frames = 10;             // tracked by the LiDAR in at least this many frames (within range)
+  double vehicle_min_extent_m = 1.5;     // a cluster this wide or long (median over its track) is a vehicle
+  double match_gate_m = 2.5;             // a run object is the LiDAR cluster whose centroid is this near
+  double standing_speed_mps = 0.5;       // a LiDAR cluster slower than this (windowed) is standing
+};
+
+struct LidarCheckReport {
+  // Camera against the LiDAR registration (world = the first camera for both).
+  int frames = 0;
+  double path_length_m = 0.0;
+  double end_error_m = 0.0, end_error_pct = 0.0;  // of the last pose's position; % of the path length
+  double rte_pct = 0.0;                           // frame to frame, % of the distance travelled
+  double rre_deg_per_m = 0.0;
+  double mean_step_rotation_error_deg = 0.0;
+  struct Vehicle {
+    int track_id = 0;
+    int frames = 0;             // LiDAR frames within range
+    int frames_with_speed = 0;  // of those, frames where the run gave the object matched there a speed
+    double coverage = 0.0;
+    double median_lidar_speed_mps = 0.0;
+    std::optional<double> median_speed_difference_mps;
+    int moving_while_standing = 0;  // frames the run reported it moving while the LiDAR has it standing
+  };
+  std::vector<Vehicle> vehicles;  // tracked >= min_track_frames within range, vehicle-sized
+  int moving_rows = 0;                 // run rows reported moving
+  int moving_rows_without_cluster = 0;  // of those, at no LiDAR cluster (structure, or nothing)
+  int moving_rows_on_standing = 0;      // of those, at a LiDAR cluster that stands (any cluster)
+};
+
+LidarCheckReport CompareWithLidar(const LidarReference& reference, const std::vector<SE3>& T_world_camera_run,
+                                  const std::vector<RunObjectRow>& rows, const LidarCheckParams& params);
+
+}  // namespace dslam

@@ -1,0 +1,28 @@
+#pragma once
+// Where a run's instance masks come from: the dataset's own (mask files, or the mask topic in serve), or
+// made from each frame's LiDAR scan by geometry (lidar/lidar_masks.h), with no network. Applied to every
+// frame as it is read, before the front-end.
+
+#include <string>
+
+#include "data/image_frame.h"
+#include "geometry/pinhole_camera.h"
+#include "lidar/lidar_masks.h"
+
+namespace dslam {
+
+enum class MaskSourceKind { kDataset, kLidarClusters };
+MaskSourceKind ParseMaskSource(const std::string& name);  // dataset | lidar_clusters; throws naming it
+std::string ToString(MaskSourceKind kind);
+
+struct MaskSourceParams {
+  MaskSourceKind source = MaskSourceKind::kDataset;
+  LidarMaskParams lidar;
+  void validate() const { lidar.validate(); }
+};
+
+// Replaces frame.instance_ids with masks from its LiDAR scan (kLidarClusters); leaves the frame as it is
+// for kDataset. Throws std::runtime_error naming the frame when it has no scan to make masks from.
+void ApplyMaskSource(const MaskSourceParams& params, const PinholeCamera& camera, ImageFrame& frame);
+
+}  // namespace dslam
