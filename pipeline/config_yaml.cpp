@@ -153,6 +153,7 @@ const Schema& GetSchema() {
        {{"source",
          {[](const YAML::Node& n, RunConfig& c) { c.masks.source = ParseMaskSource(n.as<std::string>()); },
           [](YAML::Emitter& e, const RunConfig& c) { e << ToString(c.masks.source); }}},
+        {"lidar_from_depth", Field<bool>([](RunConfig& c) -> bool& { return c.masks.lidar_from_depth; })},
         {"lidar_max_range_m", Field<double>([](RunConfig& c) -> double& { return c.masks.lidar.segmentation.max_range_m; })},
         {"lidar_ground_distance_m",
          Field<double>([](RunConfig& c) -> double& { return c.masks.lidar.segmentation.ground_distance_m; })},

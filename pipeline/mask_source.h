@@ -18,6 +18,9 @@ std::string ToString(MaskSourceKind kind);
 struct MaskSourceParams {
   MaskSourceKind source = MaskSourceKind::kDataset;
   LidarMaskParams lidar;
+  // A frame without a LiDAR scan gets one sampled from its depth image (lidar/depth_scan.h): to measure
+  // the LiDAR mask source on rendered scenes, whose depth and masks are exact.
+  bool lidar_from_depth = false;
   void validate() const { lidar.validate(); }
 };
 

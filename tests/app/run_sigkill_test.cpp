@@ -60,8 +60,10 @@ TEST(RunSigkill, LeavesEveryFrameThatLeftTheWindowOnDisk) {
   // The other streamed tables are there, whole lines with every column.
   const std::vector<std::string> speeds = Lines(killed + "/object_speeds.csv");
   ASSERT_GE(speeds.size(), 2u);
-  EXPECT_EQ(speeds[0], "frame,object_id,is_dynamic,est_speed_mps,gt_speed_mps,speed_sigma_mps");
-  for (const std::string& row : speeds) EXPECT_EQ(std::count(row.begin(), row.end(), ','), 5) << row;
+  EXPECT_EQ(speeds[0],
+            "frame,object_id,is_dynamic,est_speed_mps,gt_speed_mps,speed_sigma_mps,centroid_x_m,centroid_y_m,"
+            "centroid_z_m,box_x,box_y,box_w,box_h");
+  for (const std::string& row : speeds) EXPECT_EQ(std::count(row.begin(), row.end(), ','), 12) << row;
   // The front-end's log is cut between rows, never inside one.
   const std::string log = test::ReadFile(killed + "/frontend.csv");
   ASSERT_FALSE(log.empty());

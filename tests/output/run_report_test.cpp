@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -47,10 +48,19 @@ TEST(RunReport, WritesEveryResultFile) {
   std::ifstream speeds(dir + "/object_speeds.csv");
   std::string header, line;
   std::getline(speeds, header);
-  EXPECT_EQ(header, "frame,object_id,is_dynamic,est_speed_mps,gt_speed_mps,speed_sigma_mps");
-  int rows = 0;
-  while (std::getline(speeds, line)) ++rows;
+  EXPECT_EQ(header,
+            "frame,object_id,is_dynamic,est_speed_mps,gt_speed_mps,speed_sigma_mps,centroid_x_m,centroid_y_m,"
+            "centroid_z_m,box_x,box_y,box_w,box_h");
+  int rows = 0, with_centroid = 0;
+  while (std::getline(speeds, line)) {
+    ++rows;
+    // Every row has the header's 13 fields; an estimated one says where its object was (the simulator gives
+    // no image, so no box).
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 12) << line;
+    if (line.find(",,,,") == line.size() - 4 && line.find(",,,,,,,") == std::string::npos) ++with_centroid;
+  }
   EXPECT_EQ(rows, 14);  // one object, 14 frame pairs
+  EXPECT_GT(with_centroid, 0);
   const std::string table = FormatMetricsTable(outcomes, "title");
   EXPECT_NE(table.find("Object OMTE (%)"), std::string::npos);
   EXPECT_NE(table.find("SLAM+MOT"), std::string::npos);

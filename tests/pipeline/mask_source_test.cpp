@@ -1,0 +1,65 @@
+#include "pipeline/mask_source.h"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+namespace dslam {
+namespace {
+
+// A frame of a flat road (the camera 1.65 m above it) with a car-sized box 10 m ahead, as depth.
+ImageFrame RoadWithACar(const PinholeCamera& camera) {
+  ImageFrame frame;
+  frame.frame_index = 7;
+  frame.image = cv::Mat(camera.height, camera.width, CV_8UC3, cv::Scalar(90, 90, 90));
+  frame.depth_m = cv::Mat(camera.height, camera.width, CV_32F, cv::Scalar(0.0f));
+  for (int v = 0; v < camera.height; ++v)
+    for (int u = 0; u < camera.width; ++u) {
+      const double y = (v - camera.cy) / camera.fy, x = (u - camera.cx) / camera.fx;
+      double z = y > 1e-3 ? 1.65 / y : 0.0;  // the road
+      // The box's rear face: x in [-0.9, 0.9] m, from the road up to 1.5 m, at z = 10 m.
+      const double zb = 10.0;
+      if (std::abs(x * zb) <= 0.9 && y * zb <= 1.65 && y * zb >= 0.15 && (z == 0.0 || z > zb)) z = zb;
+      frame.depth_m.at<float>(v, u) = z > 0.0 && z < 80.0 ? static_cast<float>(z) : 0.0f;
+    }
+  return frame;
+}
+
+TEST(MaskSource, LidarClustersFromASampledScanMaskTheCarAndNothingElse) {
+  const PinholeCamera camera;
+  ImageFrame frame = RoadWithACar(camera);
+  MaskSourceParams params;
+  params.source = MaskSourceKind::kLidarClusters;
+  params.lidar_from_depth = true;
+  ApplyMaskSource(params, camera, frame);
+  ASSERT_EQ(frame.instance_ids.type(), CV_32SC1);
+  const cv::Mat car = frame.instance_ids == 1;
+  EXPECT_GT(cv::countNonZero(car), 0);
+  EXPECT_EQ(cv::countNonZero(frame.instance_ids > 1), 0) << "the road is no object";
+  // The car's face spans x = +-0.9 m at 10 m: about 130 px around the principal point.
+  const cv::Rect box = cv::boundingRect(car);
+  EXPECT_NEAR(box.x + box.width / 2.0, camera.cx, 6.0);
+  EXPECT_NEAR(box.width, 1.8 * camera.fx / 10.0, 12.0);
+}
+
+TEST(MaskSource, TheDatasetsMasksStayAndAFrameWithoutAScanIsAClearError) {
+  const PinholeCamera camera;
+  ImageFrame frame = RoadWithACar(camera);
+  frame.instance_ids = cv::Mat(camera.height, camera.width, CV_16U, cv::Scalar(3));
+  ApplyMaskSource(MaskSourceParams{}, camera, frame);  // source: dataset
+  EXPECT_EQ(cv::countNonZero(frame.instance_ids != 3), 0);
+  MaskSourceParams lidar;
+  lidar.source = MaskSourceKind::kLidarClusters;
+  try {
+    ApplyMaskSource(lidar, camera, frame);
+    FAIL() << "made masks without a scan";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("frame 7"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(ParseMaskSource("lidar_clusters"), MaskSourceKind::kLidarClusters);
+  EXPECT_EQ(ToString(ParseMaskSource("dataset")), "dataset");
+  EXPECT_THROW(ParseMaskSource("maskrcnn"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace dslam
