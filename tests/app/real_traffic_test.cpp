@@ -74,7 +74,7 @@ TEST(RealTraffic, MasksFromTheLidarGiveEachVehicleASpeedAndKeepTheCameraCloserTo
   EXPECT_LT(masked["camera"]["rte_pct"].get<double>(), all_static["camera"]["rte_pct"].get<double>());
 
   // Vehicles the LiDAR tracks for 10+ frames within 25 m: most get a speed in >= 80 % of their frames
-  // (9 of 11 when written), and the median speed differences of those are within 0.6 m/s (0.15 to 0.51).
+  // (8 of 11 when written), and the median speed differences of those are within 0.6 m/s (0.15 to 0.50).
   const auto& vehicles = masked["vehicles"];
   ASSERT_GE(vehicles.size(), 8u);
   int covered = 0;
@@ -86,9 +86,9 @@ TEST(RealTraffic, MasksFromTheLidarGiveEachVehicleASpeedAndKeepTheCameraCloserTo
   EXPECT_GE(covered, static_cast<int>(vehicles.size()) * 2 / 3);
   EXPECT_EQ(all_static["moving_rows"].get<int>(), 0) << "without masks no object is estimated";
   EXPECT_GT(masked["moving_rows"].get<int>(), 20);
-  // Rows reported moving on standing clusters or on no cluster at all: a few of the ~80 (3 and 3 when written).
+  // Rows reported moving on standing clusters or on no cluster at all: a few of the ~120 (3 and 6 when written).
   EXPECT_LE(masked["moving_rows_on_standing_cluster"].get<int>(), 6);
-  EXPECT_LE(masked["moving_rows_without_cluster"].get<int>(), 6);
+  EXPECT_LE(masked["moving_rows_without_cluster"].get<int>(), 10);
 
   // Every estimated row says where its object is; a few frames are drawn for the report.
   const std::string dir = masked_dir;
