@@ -1,6 +1,8 @@
 #include "output/frame_overlay.h"
 
+#include <cmath>
 #include <cstdio>
+#include <map>
 #include <stdexcept>
 
 #include <opencv2/imgcodecs.hpp>
@@ -34,14 +36,19 @@ cv::Mat DrawObjectOverlay(const cv::Mat& image, const cv::Mat& instance_ids,
     cv::Mat ids;
     instance_ids.convertTo(ids, CV_32S);
     cv::Mat tint = out.clone();
+    std::map<int, cv::Vec3b> colours;
     for (int v = 0; v < ids.rows; ++v) {
       const int32_t* id = ids.ptr<int32_t>(v);
       cv::Vec3b* t = tint.ptr<cv::Vec3b>(v);
-      for (int u = 0; u < ids.cols; ++u)
-        if (id[u] > 0) {
-          const cv::Scalar c = LabelColour(id[u]);
-          t[u] = cv::Vec3b(static_cast<uchar>(c[0]), static_cast<uchar>(c[1]), static_cast<uchar>(c[2]));
+      for (int u = 0; u < ids.cols; ++u) {
+        if (id[u] <= 0) continue;
+        auto c = colours.find(id[u]);
+        if (c == colours.end()) {
+          const cv::Scalar s = LabelColour(id[u]);
+          c = colours.emplace(id[u], cv::Vec3b(static_cast<uchar>(s[0]), static_cast<uchar>(s[1]), static_cast<uchar>(s[2]))).first;
         }
+        t[u] = c->second;
+      }
     }
     cv::addWeighted(out, 0.6, tint, 0.4, 0.0, out);
   }

@@ -158,6 +158,17 @@ TEST_F(Figures, CommandDrawsEveryFigureAndTheReportDeterministically) {
   print.scale = 2.0;
   ASSERT_EQ(RunFiguresCommand(dir, print, out, err), 0) << err.str();
   EXPECT_EQ(Load(dir + "/speeds.png")->width, 3200);
+
+  // Frames a run drew its objects on (dslam run on images) join the report, with what they show; a half-written
+  // one does not.
+  std::ofstream(dir + "/frame_000012.png") << "png";
+  std::ofstream(dir + "/frame_000013.png.partial.png") << "png";
+  ASSERT_EQ(RunFiguresCommand(dir, FigureOptions{}, out, err), 0) << err.str();
+  std::ifstream html2(dir + "/report.html");
+  const std::string page2((std::istreambuf_iterator<char>(html2)), std::istreambuf_iterator<char>());
+  EXPECT_NE(page2.find("src=\"frame_000012.png\""), std::string::npos);
+  EXPECT_NE(page2.find("Frame 000012 as the run saw it"), std::string::npos);
+  EXPECT_EQ(page2.find("frame_000013"), std::string::npos);
   fs::remove_all(dir);
 }
 
