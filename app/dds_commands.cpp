@@ -43,6 +43,10 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
   RunConfig config;
   try {
     config = ServeRunConfig(options);
+    // serve's masks come from its mask topic; masks made from a LiDAR topic are not served yet.
+    if (config.masks.source != MaskSourceKind::kDataset)
+      throw std::invalid_argument("masks.source " + ToString(config.masks.source) +
+                                  " is not supported by serve: it takes instance masks from its mask topic");
     if (options.calib_path.empty()) throw std::invalid_argument("--calib FILE is required (KITTI calib.txt format)");
     const KittiCalibration calib = ReadKittiCalibration(options.calib_path);
     const auto& P = calib.P[2](0, 0) > 0.0 ? calib.P[2] : calib.P[0];

@@ -54,6 +54,12 @@ dslam_msgs::msg::ObjectMotionArray ToMessage(const FrameEstimate& e, double fram
     o.centroid_world().z(centroid_world.z());
     o.is_dynamic(m.is_dynamic);
     for (int i = 0; i < 36; ++i) o.covariance()[i] = m.covariance(i / 6, i % 6);  // row-major
+    o.centroid_camera().x(m.centroid_camera.x()), o.centroid_camera().y(m.centroid_camera.y());
+    o.centroid_camera().z(m.centroid_camera.z());
+    if (m.image_box) {
+      o.box_x(m.image_box->x), o.box_y(m.image_box->y);
+      o.box_width(m.image_box->width), o.box_height(m.image_box->height);
+    }
     msg.objects().push_back(o);
   }
   return msg;

@@ -63,7 +63,7 @@ Decoded ReadDecoded(const std::string& path) {
       d.objects_per_stamp[array_stamp] = std::stoi(f[4]);
       d.objects_by_stamp[array_stamp];
       d.objects_rows.push_back(f);
-    } else if (f[0] == "object" && f.size() == 14) {
+    } else if (f[0] == "object" && f.size() == 16) {
       d.object_rows.push_back(f);
       d.objects_by_stamp[array_stamp].push_back(f);
     } else if (f[0] == "markers" && f.size() == 4) {
@@ -159,6 +159,8 @@ TEST(CycloneInterop, ARos2NodeOnCycloneDdsDecodesEveryEstimateObjectMotionAndSta
     EXPECT_GE(std::stod(row[11]), 0.0);             // covariance diagonal entries
     EXPECT_GE(std::stod(row[12]), 0.0);
     EXPECT_EQ(row[13], "1");                        // all 36 finite
+    EXPECT_GT(std::stod(row[14]), 0.5);             // the object's centroid in the camera, in front of it
+    EXPECT_GT(std::stoi(row[15]), 0);               // its mask's box in the image
   }
   // RViz markers (visualization_msgs/MarkerArray as ROS 2 defines it): per frame a DELETEALL, then per object
   // a sphere, a text with its id and speed, and for a moving object an arrow with two points.

@@ -84,10 +84,11 @@ int main(int argc, char** argv) {
           const dslam_msgs_msg_dds__ObjectMotion_* o = &m->objects_._buffer[i];
           int finite = 1;
           for (int j = 0; j < 36; ++j) finite = finite && isfinite(o->covariance_[j]);
-          fprintf(out, "object %d %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %d\n", o->object_id_,
-                  o->is_dynamic_ ? 1 : 0, o->speed_mps_, o->velocity_mps_.x_, o->velocity_mps_.y_, o->velocity_mps_.z_,
-                  o->centroid_world_.x_, o->centroid_world_.y_, o->centroid_world_.z_, o->h_world_.orientation_.w_,
-                  o->covariance_[0], o->covariance_[35], finite);
+          fprintf(out, "object %d %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %d %.17g %d\n",
+                  o->object_id_, o->is_dynamic_ ? 1 : 0, o->speed_mps_, o->velocity_mps_.x_, o->velocity_mps_.y_,
+                  o->velocity_mps_.z_, o->centroid_world_.x_, o->centroid_world_.y_, o->centroid_world_.z_,
+                  o->h_world_.orientation_.w_, o->covariance_[0], o->covariance_[35], finite, o->centroid_camera_.z_,
+                  o->box_width_);
         }
       }
       dds_return_loan(objects, &sample, 1);

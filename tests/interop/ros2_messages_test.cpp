@@ -98,7 +98,8 @@ TEST(Ros2Messages, ThePackageAgreesWithTheIdlFieldByField) {
     EXPECT_EQ(MsgFields(ReadFile(root + "/ros2/dslam_msgs/msg/" + name + ".msg")), fields);
   }
   // Spot checks of the mapping itself, so that a parser bug cannot make both sides agree on nothing.
-  EXPECT_EQ(idl.at("ObjectMotion").back(), (std::pair<std::string, std::string>{"float64[36]", "covariance"}));
+  EXPECT_EQ(idl.at("ObjectMotion").back(), (std::pair<std::string, std::string>{"int32", "box_height"}));
+  EXPECT_EQ(idl.at("ObjectMotion").at(6), (std::pair<std::string, std::string>{"float64[36]", "covariance"}));
   EXPECT_EQ(idl.at("ObjectMotionArray").back(), (std::pair<std::string, std::string>{"ObjectMotion[]", "objects"}));
   EXPECT_EQ(idl.at("Status").front(), (std::pair<std::string, std::string>{"std_msgs/Header", "header"}));
   // Every message of the package is built by its CMakeLists.txt.

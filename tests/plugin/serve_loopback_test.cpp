@@ -177,6 +177,14 @@ void ExpectSameEstimates(const std::vector<FrameEstimate>& reference, Listener& 
       const Vec3 centroid_k = e.object_motions[i].centroidWorld();
       EXPECT_LT((Vec3(c.x(), c.y(), c.z()) - centroid_k).norm(), 1e-9);
       EXPECT_EQ(objects[i].is_dynamic(), e.object_motions[i].is_dynamic);
+      // Where the object is in the frame: its points' centroid in the camera, its mask's box in the image.
+      const auto& cc = objects[i].centroid_camera();
+      EXPECT_LT((Vec3(cc.x(), cc.y(), cc.z()) - e.object_motions[i].centroid_camera).norm(), 1e-9);
+      EXPECT_GT(cc.z(), 0.5);
+      ASSERT_TRUE(e.object_motions[i].image_box);
+      EXPECT_EQ(objects[i].box_x(), e.object_motions[i].image_box->x);
+      EXPECT_EQ(objects[i].box_height(), e.object_motions[i].image_box->height);
+      EXPECT_GT(objects[i].box_width(), 0);
       // The motion's covariance, row-major: the reference's, and for a moving object a covariance
       // (symmetric, positive definite).
       Mat6 covariance;
