@@ -167,6 +167,8 @@ const Schema& GetSchema() {
          Field<int>([](RunConfig& c) -> int& { return c.masks.lidar.segmentation.min_cluster_points; })},
         {"lidar_min_object_height_m",
          Field<double>([](RunConfig& c) -> double& { return c.masks.lidar.segmentation.min_object_height_m; })},
+        {"lidar_max_object_base_height_m",
+         Field<double>([](RunConfig& c) -> double& { return c.masks.lidar.segmentation.max_object_base_height_m; })},
         {"lidar_max_object_length_m",
          Field<double>([](RunConfig& c) -> double& { return c.masks.lidar.segmentation.max_object_length_m; })},
         {"lidar_splat_half_width_px", Field<int>([](RunConfig& c) -> int& { return c.masks.lidar.splat_half_width_px; })},
