@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <stdexcept>
+#include <string>
 
 namespace dslam {
 namespace {
@@ -65,6 +66,10 @@ void LidarReferenceBuilder::add(const std::vector<Eigen::Vector3f>& points_camer
       guess.linear() = step.rotationMatrix();
       guess.translation() = step.translation();
     }
+    if (static_points.size() < 3 || previous_static_.size() < 3)
+      throw std::runtime_error("LiDAR scan " + std::to_string(frame) + " or the one before has no static structure to register (" +
+                               std::to_string(static_points.size()) + " and " + std::to_string(previous_static_.size()) +
+                               " points above the ground outside the object clusters)");
     const Registration r = RegisterPoints(static_points, previous_static_, guess, params_.ego);
     T_prev_curr = r.T_target_source;
     reference_.T_world_camera.push_back(reference_.T_world_camera.back() * ToSE3(T_prev_curr));
@@ -113,7 +118,6 @@ void LidarReferenceBuilder::add(const std::vector<Eigen::Vector3f>& points_camer
       cluster.track_id = next_track_id_++;
     }
     s.track_id = cluster.track_id;
-    cluster.sample = reference_.samples.size();
     reference_.samples.push_back(s);
   }
   previous_clusters_ = std::move(clusters);

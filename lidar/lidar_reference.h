@@ -61,7 +61,6 @@ class LidarReferenceBuilder {
     std::vector<Eigen::Vector3f> points;
     Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
     int track_id = 0;
-    size_t sample = 0;  // index into reference_.samples
   };
   Vec3 ObjectDisplacement(const Cluster& previous, const std::vector<Eigen::Vector3f>& points,
                           const Eigen::Vector3f& centroid, const Eigen::Isometry3d& T_curr_prev) const;

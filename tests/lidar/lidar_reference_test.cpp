@@ -131,3 +131,21 @@ TEST(LidarComparison, ScoresTheCameraPathAndEachVehiclesSpeedAgainstTheReference
 
 }  // namespace
 }  // namespace dslam
+
+namespace dslam {
+namespace {
+
+TEST(LidarReference, AScanWithNothingButGroundIsAClearErrorNamingIt) {
+  const test::SyntheticLidar lidar;
+  LidarReferenceBuilder builder(LidarReferenceParams{}, PinholeCamera{});
+  builder.add(lidar.scan({}), lidar.origin, Eigen::Vector3f(0.0f, -1.0f, 0.0f));
+  try {
+    builder.add(lidar.scan({}), lidar.origin, Eigen::Vector3f(0.0f, -1.0f, 0.0f));
+    FAIL() << "registered a scan of bare ground";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("LiDAR scan 1"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace dslam
