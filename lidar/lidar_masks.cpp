@@ -61,19 +61,15 @@ LidarMaskResult LidarInstanceMask(const std::vector<Eigen::Vector3f>& points_cam
   const int n_objects = static_cast<int>(seg.objects.size());
 
   std::vector<int> label_of(points_camera.size(), 0);
-  std::vector<Eigen::Vector2f> footprint_lo(n_objects, Eigen::Vector2f::Constant(1e9f)), footprint_hi(n_objects, Eigen::Vector2f::Constant(-1e9f));
   for (int l = 0; l < n_objects; ++l)
-    for (int i : seg.objects[l].point_indices) {
-      label_of[i] = l + 1;
-      const Eigen::Vector2f xz(points_camera[i].x(), points_camera[i].z());
-      footprint_lo[l] = footprint_lo[l].cwiseMin(xz), footprint_hi[l] = footprint_hi[l].cwiseMax(xz);
-    }
+    for (int i : seg.objects[l].point_indices) label_of[i] = l + 1;
   // An object's lowest returns lie within the ground's band and were taken for ground: those inside its
   // footprint are its own (its bumper, its wheels, the road seen under it).
   for (int i : seg.ground) {
     const Eigen::Vector2f xz(points_camera[i].x(), points_camera[i].z());
     for (int l = 0; l < n_objects; ++l)
-      if ((xz.array() >= footprint_lo[l].array()).all() && (xz.array() <= footprint_hi[l].array()).all()) {
+      if ((xz.array() >= seg.objects[l].footprint_lo.array()).all() &&
+          (xz.array() <= seg.objects[l].footprint_hi.array()).all()) {
         label_of[i] = l + 1;
         break;
       }

@@ -1,7 +1,6 @@
 #include "lidar/lidar_reference.h"
 
 #include <algorithm>
-#include <cmath>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -104,9 +103,7 @@ void LidarReferenceBuilder::add(const std::vector<Eigen::Vector3f>& points_camer
     s.frame = frame;
     s.centroid_camera = cluster.centroid.cast<double>();
     s.points = static_cast<int>(cluster.points.size());
-    Eigen::Vector3f lo = cluster.points.front(), hi = lo;
-    for (const Eigen::Vector3f& p : cluster.points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-    s.extent_m = std::hypot(hi.x() - lo.x(), hi.z() - lo.z());
+    s.extent_m = seg.objects[c].footprintDiagonal();
     s.box = masks.boxes[c];
     if (match[c] >= 0) {
       const Cluster& prev = previous_clusters_[static_cast<size_t>(match[c])];

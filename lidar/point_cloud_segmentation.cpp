@@ -126,40 +126,25 @@ LidarSegmentation SegmentLidarObjects(const std::vector<Eigen::Vector3f>& points
   std::vector<pcl::PointIndices> clusters;
   clustering.extract(clusters);
 
-  // One part per cluster, with its footprint (its box in the camera's x-z plane). A surface seen edge-on
-  // (a car's side, a roof) is sampled sparsely and can come out as a part of its own: merging parts by
-  // their footprints joined neighbouring vehicles and walls in dense traffic, so parts stay as clustered.
-  struct Part {
-    std::vector<int> points;
-    Eigen::Vector2f lo, hi;
-  };
-  std::vector<Part> parts;
+  // A surface seen edge-on (a car's side, a roof) is sampled sparsely and can come out as a cluster of
+  // its own; clusters are kept as they are (joining them by their footprints joined neighbouring vehicles).
   for (const pcl::PointIndices& c : clusters) {
-    Part part;
-    for (int r : c.indices) part.points.insert(part.points.end(), members[r].begin(), members[r].end());
-    part.lo = Eigen::Vector2f::Constant(1e9f), part.hi = -part.lo;
-    for (int i : part.points) {
-      const Eigen::Vector2f xz(points_camera[i].x(), points_camera[i].z());
-      part.lo = part.lo.cwiseMin(xz), part.hi = part.hi.cwiseMax(xz);
-    }
-    parts.push_back(std::move(part));
-  }
-
-  for (Part& part : parts) {
     LidarObjectCluster object;
-    object.point_indices = std::move(part.points);
+    for (int r : c.indices) object.point_indices.insert(object.point_indices.end(), members[r].begin(), members[r].end());
     if (static_cast<int>(object.point_indices.size()) < params.min_cluster_points) continue;
+    object.footprint_lo = Eigen::Vector2f::Constant(1e9f), object.footprint_hi = -object.footprint_lo;
     float h_min = 1e9f, h_max = -1e9f;
     for (int i : object.point_indices) {
       const Eigen::Vector3f& p = points_camera[i];
       object.centroid_camera += p;
+      const Eigen::Vector2f xz(p.x(), p.z());
+      object.footprint_lo = object.footprint_lo.cwiseMin(xz), object.footprint_hi = object.footprint_hi.cwiseMax(xz);
       const float h = out.heightAboveGround(p);
       h_min = std::min(h_min, h), h_max = std::max(h_max, h);
     }
     object.centroid_camera /= static_cast<float>(object.point_indices.size());
     object.top_height_m = h_max;
-    const float length = (part.hi - part.lo).norm();  // the footprint box's diagonal
-    if (length > params.max_object_length_m || h_max - h_min < params.min_object_height_m ||
+    if (object.footprintDiagonal() > params.max_object_length_m || h_max - h_min < params.min_object_height_m ||
         h_min > params.max_object_base_height_m)
       continue;  // walls, kerbs, overhanging signs and crowns
     std::sort(object.point_indices.begin(), object.point_indices.end());

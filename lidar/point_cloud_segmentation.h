@@ -31,6 +31,9 @@ struct LidarObjectCluster {
   std::vector<int> point_indices;  // into the scan given to SegmentLidarObjects
   Eigen::Vector3f centroid_camera = Eigen::Vector3f::Zero();
   float top_height_m = 0.0f;  // of its highest point above the ground
+  // Its footprint: the box of its points in the camera's x-z plane (x lo/hi, z lo/hi).
+  Eigen::Vector2f footprint_lo = Eigen::Vector2f::Zero(), footprint_hi = Eigen::Vector2f::Zero();
+  float footprintDiagonal() const { return (footprint_hi - footprint_lo).norm(); }
 };
 
 struct LidarSegmentation {
