@@ -12,6 +12,7 @@
 #include "lidar/lidar_comparison.h"
 #include "lidar/lidar_reference.h"
 #include "output/result_reader.h"
+#include "output/text_format.h"
 #include "output/trajectory_io.h"
 #include "output/whole_file.h"
 #include "pipeline/config_yaml.h"
@@ -25,11 +26,7 @@ void WriteWholeFile(const std::string& path, const std::string& text) {
   f.commit();
 }
 
-std::string Fixed(double v, int precision) {
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(precision) << v;
-  return s.str();
-}
+std::string Fixed(double v, int precision) { return FormatFixed(v, precision, "-"); }
 
 void WriteTracks(const std::string& path, const LidarReference& reference) {
   std::ostringstream s;
@@ -132,7 +129,7 @@ int RunLidarCheckCommand(const LidarCheckCommandOptions& options, std::ostream& 
       char line[200];
       std::snprintf(line, sizeof line, "  %5d  %6d  %10d  %8.2f  %16.2f  %17s  %21d", v.track_id, v.frames,
                     v.frames_with_speed, v.coverage, v.median_lidar_speed_mps,
-                    v.median_speed_difference_mps ? Fixed(*v.median_speed_difference_mps, 2).c_str() : "-",
+                    FormatFixed(v.median_speed_difference_mps, 2, "-").c_str(),
                     v.moving_while_standing);
       out << line << std::endl;
     }
