@@ -16,6 +16,9 @@ struct FlowField {
 };
 // Middlebury .flo: "PIEH" (float 202021.25), int32 width, int32 height, width*height*2 float32.
 FlowField ReadFlo(const std::string& path);
+// The same into `uv` (width*height*2 floats, e.g. a CV_32FC2 image's data), without a copy: throws naming the
+// file when its size is not width x height.
+void ReadFloInto(const std::string& path, int width, int height, float* uv);
 // Writes `flow` whole (a temporary file renamed), so that a reader never sees half of one. Unknown flow (no
 // surface, hidden in the next frame) follows Middlebury: a component above kUnknownFlow (ExactFlow writes 1e10).
 void WriteFlo(const std::string& path, const FlowField& flow);

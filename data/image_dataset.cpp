@@ -306,12 +306,8 @@ ImageFrame ImageDataset::read(int k) const {
     throw std::runtime_error(masks_[k] + ": mask is " + Size(frame.instance_ids) + " but the image is " +
                              Size(frame.image));
   if (k < static_cast<int>(flows_.size())) {
-    const FlowField f = ReadFlo(flows_[k]);
-    if (f.width != frame.image.cols || f.height != frame.image.rows)
-      throw std::runtime_error(flows_[k] + ": flow is " + std::to_string(f.width) + "x" + std::to_string(f.height) +
-                               " but the image is " + Size(frame.image));
-    frame.flow_to_next = cv::Mat(f.height, f.width, CV_32FC2);
-    std::copy(f.uv.begin(), f.uv.end(), frame.flow_to_next.ptr<float>(0));
+    frame.flow_to_next = cv::Mat(frame.image.rows, frame.image.cols, CV_32FC2);
+    ReadFloInto(flows_[k], frame.image.cols, frame.image.rows, frame.flow_to_next.ptr<float>(0));
   }
   frame.odometry = odometryAt(k);
   if (transform_) transform_(frame);

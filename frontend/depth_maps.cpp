@@ -2,6 +2,7 @@
 
 #include "data/image_frame.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -34,6 +35,11 @@ cv::Mat Gray8(const cv::Mat& image, const char* what) {
 
 cv::Mat DepthFromScaledImage(const cv::Mat& depth, double units_per_metre) {
   if (!(units_per_metre > 0.0)) throw std::invalid_argument("depth units per metre must be positive");
+  if (depth.type() == CV_16UC1) {  // the common PNG case: scaled in the conversion, no NaN possible
+    cv::Mat out;
+    depth.convertTo(out, CV_32F, 1.0 / units_per_metre);
+    return out;
+  }
   cv::Mat out = ToFloatSingleChannel(depth, "depth image");
   out *= 1.0 / units_per_metre;
   cv::patchNaNs(out, 0.0);
@@ -97,16 +103,23 @@ cv::Mat FillSparseDepth(const cv::Mat& depth_m, int radius_px) {
   if (depth_m.type() != CV_32FC1) throw std::invalid_argument("depth must be CV_32FC1 to fill");
   if (radius_px < 0) throw std::invalid_argument("fill radius must be >= 0");
   // Erosion (minimum) over valid depths only: "none" becomes a huge finite sentinel first (OpenCV's
-  // erosion pads the border with the type's maximum, which must not pass for a depth either).
+  // erosion pads the border with the type's maximum, which must not pass for a depth either). One buffer,
+  // filled and read back in single passes: comparison masks and copies cost more than the erosion itself.
   constexpr float kNone = 1e30f;
-  cv::Mat sentinel = depth_m.clone();
-  sentinel.setTo(kNone, depth_m <= 0.0f);
-  cv::Mat nearest;
-  cv::erode(sentinel, nearest, cv::getStructuringElement(cv::MORPH_RECT, {2 * radius_px + 1, 2 * radius_px + 1}));
-  cv::Mat out = depth_m.clone();
-  const cv::Mat fill = (depth_m <= 0.0f) & (nearest < kNone / 2);
-  nearest.copyTo(out, fill);
-  return out;
+  cv::Mat nearest(depth_m.size(), CV_32F);
+  for (int v = 0; v < depth_m.rows; ++v) {
+    const float* in = depth_m.ptr<float>(v);
+    float* s = nearest.ptr<float>(v);
+    for (int u = 0; u < depth_m.cols; ++u) s[u] = in[u] > 0.0f ? in[u] : kNone;
+  }
+  cv::erode(nearest, nearest, cv::getStructuringElement(cv::MORPH_RECT, {2 * radius_px + 1, 2 * radius_px + 1}));
+  for (int v = 0; v < depth_m.rows; ++v) {
+    const float* in = depth_m.ptr<float>(v);
+    float* out = nearest.ptr<float>(v);
+    for (int u = 0; u < depth_m.cols; ++u)
+      if (!(in[u] <= 0.0f) || !(out[u] < kNone / 2)) out[u] = in[u];
+  }
+  return nearest;
 }
 
 }  // namespace dslam

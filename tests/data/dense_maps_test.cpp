@@ -51,6 +51,16 @@ TEST(ReadFlo, RoundTripAndBadFiles) {
   const FlowField f = ReadFlo(path);
   EXPECT_EQ(f.u(1, 0), 0.25f);
   EXPECT_EQ(f.v(0, 0), -2.0f);
+  float uv[4] = {};
+  ReadFloInto(path, 2, 1, uv);  // straight into the caller's buffer
+  EXPECT_EQ(uv[2], 0.25f);
+  EXPECT_EQ(uv[1], -2.0f);
+  try {
+    ReadFloInto(path, 1, 2, uv);
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ": flow is 2x1 but the image is 1x2"), std::string::npos) << e.what();
+  }
   std::filesystem::resize_file(path, 12 + 8);  // truncated data
   EXPECT_THROW(ReadFlo(path), std::runtime_error);
   {
@@ -116,6 +126,27 @@ TEST(ReadSemanticTxt, RaggedRowsAndNonNumbersAreErrorsWithLine) {
     EXPECT_NE(std::string(e.what()).find(path + ":2"), std::string::npos) << e.what();
   }
   std::ofstream(path) << "0 0 1\n0 x 1\n";
+  EXPECT_THROW(ReadSemanticTxt(path), std::runtime_error);
+  std::filesystem::remove(path);
+}
+
+TEST(ReadSemanticTxt, TabsCarriageReturnsSignsAndBlankLinesAreRead) {
+  const std::string path = TempPath("mask_forms.txt");
+  std::ofstream(path, std::ios::binary) << "\n0\t+3  -1\r\n\n  7 2147483647 0\r\n";
+  const InstanceMask mask = ReadSemanticTxt(path);
+  EXPECT_EQ(mask.width, 3);
+  EXPECT_EQ(mask.height, 2);
+  EXPECT_EQ(mask.ids, (std::vector<int32_t>{0, 3, -1, 7, 2147483647, 0}));
+  std::ofstream(path, std::ios::binary) << "0 1\n0 2147483648\n";  // beyond 32 bits
+  try {
+    ReadSemanticTxt(path);
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ":2: instance id '2147483648'"), std::string::npos) << e.what();
+  }
+  std::ofstream(path, std::ios::binary) << "0 1\n0 1.5\n";
+  EXPECT_THROW(ReadSemanticTxt(path), std::runtime_error);
+  std::ofstream(path, std::ios::binary) << "\n \n";
   EXPECT_THROW(ReadSemanticTxt(path), std::runtime_error);
   std::filesystem::remove(path);
 }

@@ -1,5 +1,7 @@
 #include "frontend/depth_maps.h"
 
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "support/synthetic_images.h"
@@ -56,6 +58,34 @@ TEST(DepthMaps, LidarPointsLandOnTheirPixelsAndTheNearestWins) {
   EXPECT_FLOAT_EQ(filled.at<float>(42, 62), 10.0f);
   EXPECT_FLOAT_EQ(filled.at<float>(43, 60), 0.0f);
   EXPECT_EQ(cv::countNonZero(filled), 25);
+}
+
+// The definition, pixel by pixel: an empty pixel takes the smallest valid depth in its box.
+TEST(DepthMaps, FillingSparseDepthTakesTheNearestValidDepthInTheBox) {
+  cv::RNG rng(7);
+  cv::Mat z(60, 90, CV_32F, cv::Scalar(0));
+  for (int i = 0; i < 300; ++i) z.at<float>(rng.uniform(0, z.rows), rng.uniform(0, z.cols)) = rng.uniform(1.0f, 50.0f);
+  z.at<float>(0, 0) = -1.0f;  // invalid, never a source
+  for (int radius : {0, 1, 3}) {
+    const cv::Mat filled = FillSparseDepth(z, radius);
+    for (int v = 0; v < z.rows; ++v)
+      for (int u = 0; u < z.cols; ++u) {
+        if (z.at<float>(v, u) > 0.0f) {
+          ASSERT_EQ(filled.at<float>(v, u), z.at<float>(v, u)) << "a valid depth must stay as it is";
+          continue;
+        }
+        float nearest = 0.0f;
+        for (int y = std::max(0, v - radius); y <= std::min(z.rows - 1, v + radius); ++y)
+          for (int x = std::max(0, u - radius); x <= std::min(z.cols - 1, u + radius); ++x) {
+            const float d = z.at<float>(y, x);
+            if (d > 0.0f && (nearest == 0.0f || d < nearest)) nearest = d;
+          }
+        if (nearest > 0.0f)
+          ASSERT_EQ(filled.at<float>(v, u), nearest) << "pixel " << u << "," << v << " radius " << radius;
+        else
+          ASSERT_EQ(filled.at<float>(v, u), z.at<float>(v, u)) << "pixel " << u << "," << v << " radius " << radius;
+      }
+  }
 }
 
 }  // namespace
