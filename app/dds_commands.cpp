@@ -112,13 +112,16 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
       if (options.max_run_s > 0 && std::chrono::duration<double>(now - start).count() > options.max_run_s) break;
       if (options.status_every_s > 0 && std::chrono::duration<double>(now - last_status).count() > options.status_every_s) {
         last_status = now;
-        for (const auto& [name, s] : node.status())
+        for (const auto& [name, s] : node.status()) {
           out << "  vehicle '" << name << "': " << s.counters.parts_received << " samples, " << s.frames_processed
               << " frames processed, " << s.counters.dropped_incomplete << " incomplete, "
               << s.counters.dropped_queue_full << " dropped (backlog full), "
               << s.counters.samples_lost << " lost, " << s.counters.rejected_invalid << " rejected"
               << (s.counters.last_rejection.empty() ? "" : " (last: ")
               << s.counters.last_rejection << (s.counters.last_rejection.empty() ? "" : ")") << std::endl;
+          if (!s.latency.empty())
+            out << "    latency ms (median/p99): " << FormatLatencyLine(s.latency) << std::endl;
+        }
       }
     }
     out << "dslam serve: stopping (a second SIGINT or SIGTERM drops the frames still waiting)" << std::endl;

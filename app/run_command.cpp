@@ -91,6 +91,7 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
                         {"mean_pnp_inliers", summary.mean_pnp_inliers},
                         {"odometry_rejected_frames", summary.odometry_rejected},
                         {"median_fb_error_px", summary.median_fb_error_px}};
+    if (!summary.latency.empty()) info["latency_ms"] = LatencyJson(summary.latency);
     info["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     WriteRunOutputs(options.out_dir, seq, outcomes, info);
     if (with_ours && (dataset.hasMasks() || config.masks.source != MaskSourceKind::kDataset))
@@ -101,6 +102,8 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
         << " ms/frame), " << summary.mean_static_tracks << " static and " << summary.mean_object_points
         << " object points per frame, " << summary.mean_pnp_inliers << " PnP inliers, median forward-backward error "
         << summary.median_fb_error_px << " px" << std::endl;
+    if (!summary.latency.empty())
+      out << "Latency per stage, ms (median/p99): " << FormatLatencyLine(summary.latency) << std::endl;
     if (summary.odometry_rejected > 0)
       out << "Odometry dropped on " << summary.odometry_rejected
           << " frame(s): it contradicted the camera motion the static points gave (frontend.csv column odometry_rejected)"

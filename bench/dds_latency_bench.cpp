@@ -4,6 +4,8 @@
 // listener run in this process, each with its own participant, through a transport (Fast DDS' intra-process
 // shortcut is off): shared memory, or with --transport udp UDPv4 on loopback only, the path a camera driver
 // on another host takes (plugin/ holds all the DDS code; this file only drives it).
+// Below each rate, serve's own latency per stage (pipeline/stage_latency.h), from a sample's arrival to
+// its estimate's publication.
 // Usage: bench_dds_latency [--transport shm|udp] [DATASET_DIR] [frames=40] [RATES=1,2,3,5,10]
 // (without a dataset it renders the city; needs Xvfb or a display)
 #include <algorithm>
@@ -31,6 +33,7 @@ using Clock = std::chrono::steady_clock;
 struct RateResult {
   double median_ms = 0, p99_ms = 0, first_ms = 0, last_ms = 0;
   int sent = 0, received = 0;
+  std::vector<dslam::StageLatencySummary> stages;  // serve's own, per stage
 };
 
 using dslam::bench::Percentile;
@@ -86,6 +89,7 @@ RateResult RunAtRate(const dslam::ImageDataset& data, int frames, double rate_hz
     r.first_ms = Percentile(std::vector<double>(latencies.begin(), latencies.begin() + 10), 0.5);
     r.last_ms = Percentile(std::vector<double>(latencies.end() - 10, latencies.end()), 0.5);
   }
+  for (const auto& [name, status] : node.status()) r.stages = status.latency;
   std::ostringstream quiet;
   node.shutdown(quiet);
   return r;
@@ -140,6 +144,7 @@ int main(int argc, char** argv) {
     const RateResult r = RunAtRate(data, frames, rate, domain++, profiles);
     std::printf("%8.1f %6d/%-3d %12.1f %10.1f %10.1f %14.1f\n", rate, r.received, r.sent, r.median_ms, r.p99_ms,
                 r.first_ms, r.last_ms);
+    std::printf("         serve's stages, ms (median/p99): %s\n", dslam::FormatLatencyLine(r.stages).c_str());
     // Sustained: every frame estimated and no backlog building up, i.e. the last ten frames wait no
     // longer than the first ten (within half a period). The latency itself is the front-end's and the
     // back-end's time added, since each frame passes both; the stages run in parallel, so at high rates it

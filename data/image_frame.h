@@ -12,6 +12,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "data/frame_timing.h"
 #include "data/measurements.h"
 
 namespace dslam {
@@ -29,6 +30,7 @@ struct ImageFrame {
   std::vector<Eigen::Vector3f> lidar_points_camera;
   Eigen::Vector3f lidar_origin_camera = Eigen::Vector3f::Zero();
   Eigen::Vector3f lidar_up_camera = Eigen::Vector3f(0.0f, -1.0f, 0.0f);  // the LiDAR's z axis (its elevations' zero)
+  FrameTiming timing;  // when it passed each stage so far (online pipelines fill it in)
 };
 
 // Empty when the frame is usable; otherwise a message saying what is wrong (missing image, unsupported

@@ -55,6 +55,7 @@ class FrontendRecorder {
   }
 
   bool visible(int k, int label) const { return visible_.count({k, label}) > 0; }
+  void setLatency(std::vector<StageLatencySummary> latency) { s_.latency = std::move(latency); }
 
   ImageRunSummary summary(double read_s) {
     ImageRunSummary s = s_;
@@ -111,7 +112,11 @@ Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, 
       recorder.record(m, st, ms);
     };
     const int step = std::max(1, frames / 10);
-    callbacks.on_estimate = [&](const FrameEstimate& e, const FrameMeasurement&) {
+    StageLatency latency;
+    callbacks.on_estimate = [&](const FrameEstimate& e, const FrameMeasurement&, const FrameTiming& timing) {
+      FrameTiming t = timing;
+      t.published_ns = SteadyClockNs();
+      latency.add(t);
       if (progress && ((e.frame + 1) % step == 0 || e.frame + 1 == frames)) {
         std::lock_guard<std::mutex> lock(progress_mutex);
         *progress << "  ours: frame " << e.frame + 1 << "/" << frames << std::endl;
@@ -120,12 +125,16 @@ Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, 
     StagedPipeline pipeline(config, dataset.camera(), dataset.frameRateHz(), kQueueCapacity, callbacks, stream);
     for (int k = 0; k < frames; ++k) {
       const auto t0 = Clock::now();
+      const int64_t received_ns = SteadyClockNs();
       ImageFrame frame = dataset.read(k);
       ApplyMaskSource(config.masks, dataset.camera(), frame);
       read_s += SecondsSince(t0);
+      frame.timing.received_ns = received_ns;
+      frame.timing.assembled_ns = SteadyClockNs();
       if (!pipeline.push(std::move(frame))) break;  // a stage failed: finish() throws its error
     }
     *ours = pipeline.finish();
+    recorder.setLatency(latency.summary());
   } else {
     FrontendParams frontend_params = config.frontend;
     frontend_params.frame_interval_s = 1.0 / dataset.frameRateHz();

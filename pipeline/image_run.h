@@ -11,6 +11,7 @@
 #include "backend/methods.h"
 #include "output/streaming_sink.h"
 #include "pipeline/run_config.h"
+#include "pipeline/stage_latency.h"
 
 namespace dslam {
 
@@ -24,6 +25,9 @@ struct ImageRunSummary {
   int odometry_rejected = 0;           // frames whose odometry contradicted the PnP motion (dropped)
   double median_fb_error_px = 0.0;     // median over frames of each frame's median
   bool has_ground_truth = false;
+  // With ours online: the latency of each stage (pipeline/stage_latency.h; "input" is reading the files
+  // and making masks, "publish" handing the estimate on).
+  std::vector<StageLatencySummary> latency;
 };
 
 // max_frames <= 0: the whole dataset. Throws std::runtime_error naming the frame and file on bad input.

@@ -62,6 +62,8 @@ void StagedPipeline::runFrontend() {
       if (carried && frame->odometry) frame->odometry = Compose(*carried, *frame->odometry);
       frame->frame_index = accepted;  // the back-end numbers frames 0, 1, 2, ... as they reach it
       const auto start = std::chrono::steady_clock::now();
+      FrameTiming timing = frame->timing;
+      timing.frontend_start_ns = SteadyClockNs();
       FrameMeasurement m;
       try {
         if (!frontend_) frontend_ = MakeFrontend(config_.frontend, &camera_, *frame);
@@ -74,9 +76,10 @@ void StagedPipeline::runFrontend() {
       }
       carried.reset();
       const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      timing.frontend_end_ns = SteadyClockNs();
       ++accepted;
       if (callbacks_.on_measurement) callbacks_.on_measurement(m, frontend_->lastStats(), ms);
-      if (!measurements_.push(std::move(m))) return;
+      if (!measurements_.push({std::move(m), timing})) return;
     } catch (...) {
       fail(std::current_exception());
       return;
@@ -86,12 +89,14 @@ void StagedPipeline::runFrontend() {
 }
 
 void StagedPipeline::runBackend() {
-  while (std::optional<FrameMeasurement> m = measurements_.pop()) {
+  while (std::optional<TimedMeasurement> packet = measurements_.pop()) {
     if (abort_) return;
     if (skip_) continue;
     try {
-      const FrameEstimate estimate = backend_.add(&*m);
-      if (callbacks_.on_estimate) callbacks_.on_estimate(estimate, *m);
+      packet->timing.backend_start_ns = SteadyClockNs();
+      const FrameEstimate estimate = backend_.add(&packet->measurement);
+      packet->timing.backend_end_ns = SteadyClockNs();
+      if (callbacks_.on_estimate) callbacks_.on_estimate(estimate, packet->measurement, packet->timing);
     } catch (...) {
       fail(std::current_exception());
       return;

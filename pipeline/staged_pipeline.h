@@ -29,8 +29,9 @@ struct StagedPipelineCallbacks {
   // Front-end thread, after each frame it accepted: the measurement (not yet classified), the
   // front-end's statistics of the frame and its front-end time in ms.
   std::function<void(const FrameMeasurement&, const FrontendFrameStats&, double)> on_measurement;
-  // Back-end thread, after each frame: its estimate and its classified measurement.
-  std::function<void(const FrameEstimate&, const FrameMeasurement&)> on_estimate;
+  // Back-end thread, after each frame: its estimate, its classified measurement and when it passed each
+  // stage (the frame's timing with the front-end's and the back-end's times added).
+  std::function<void(const FrameEstimate&, const FrameMeasurement&, const FrameTiming&)> on_estimate;
   // Front-end thread, for a frame the front-end rejected (the next good frame continues from the last
   // good one). When not set, a rejected frame stops the pipeline and finish() throws its error.
   std::function<void(const ImageFrame&, const std::string&)> on_rejected;
@@ -66,12 +67,17 @@ class StagedPipeline {
   void runBackend();
   void fail(std::exception_ptr error);
 
+  struct TimedMeasurement {  // a packet between the stages
+    FrameMeasurement measurement;
+    FrameTiming timing;
+  };
+
   RunConfig config_;
   PinholeCamera camera_;
   double frame_rate_hz_;
   StagedPipelineCallbacks callbacks_;
   BoundedQueue<ImageFrame> frames_;
-  BoundedQueue<FrameMeasurement> measurements_;
+  BoundedQueue<TimedMeasurement> measurements_;
   std::unique_ptr<ImageFrontend> frontend_;
   OnlineBackend backend_;
   std::mutex error_mutex_;

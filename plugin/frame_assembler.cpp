@@ -14,11 +14,6 @@ void AssemblerParams::validate() const {
     throw std::invalid_argument("assembler default odometry increment sigmas must be positive");
 }
 
-int64_t SteadyClockNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
 FrameAssembler::FrameAssembler(const AssemblerParams& params, WallClockNs wall_clock_ns)
     : params_(params), wall_clock_ns_(std::move(wall_clock_ns)) {
   params_.validate();
@@ -30,9 +25,10 @@ void FrameAssembler::reject(const std::string& reason) {
   counters_.last_rejection = reason;
 }
 
-FrameAssembler::Pending* FrameAssembler::slot(int64_t t_ns, const char* what) {
+FrameAssembler::Pending* FrameAssembler::slot(int64_t t_ns, const char* what, const PartArrival& arrival) {
   ++counters_.parts_received;
   last_arrival_wall_ns_ = wall_clock_ns_();
+  const int64_t arrived_ns = arrival.arrived_ns > 0 ? arrival.arrived_ns : last_arrival_wall_ns_;
   if (last_released_ns_ && t_ns <= *last_released_ns_) {
     reject(std::string(what) + " stamp " + std::to_string(t_ns) + " ns is not after the last assembled frame (" +
            std::to_string(*last_released_ns_) + " ns): stamps went backwards or the sample came too late");
@@ -51,17 +47,20 @@ FrameAssembler::Pending* FrameAssembler::slot(int64_t t_ns, const char* what) {
     it = pending_.emplace(t_ns, Pending{}).first;
   }
   newest_ns_ = std::max(newest_ns_, t_ns);
+  FrameTiming& timing = it->second.timing;
+  if (timing.received_ns == 0 || arrived_ns < timing.received_ns) timing.received_ns = arrived_ns;
+  timing.decode_ms += arrival.decode_ms;
   return &it->second;
 }
 
-void FrameAssembler::addColour(int64_t t_ns, const cv::Mat& image) {
-  if (Pending* p = slot(t_ns, "colour")) p->colour = image, boundPendingBytes();
+void FrameAssembler::addColour(int64_t t_ns, const cv::Mat& image, const PartArrival& arrival) {
+  if (Pending* p = slot(t_ns, "colour", arrival)) p->colour = image, boundPendingBytes();
 }
-void FrameAssembler::addDepth(int64_t t_ns, const cv::Mat& depth_m) {
-  if (Pending* p = slot(t_ns, "depth")) p->depth = depth_m, boundPendingBytes();
+void FrameAssembler::addDepth(int64_t t_ns, const cv::Mat& depth_m, const PartArrival& arrival) {
+  if (Pending* p = slot(t_ns, "depth", arrival)) p->depth = depth_m, boundPendingBytes();
 }
-void FrameAssembler::addMask(int64_t t_ns, const cv::Mat& instance_ids) {
-  if (Pending* p = slot(t_ns, "mask")) p->mask = instance_ids, boundPendingBytes();
+void FrameAssembler::addMask(int64_t t_ns, const cv::Mat& instance_ids, const PartArrival& arrival) {
+  if (Pending* p = slot(t_ns, "mask", arrival)) p->mask = instance_ids, boundPendingBytes();
 }
 
 void FrameAssembler::boundPendingBytes() {
@@ -76,14 +75,14 @@ void FrameAssembler::boundPendingBytes() {
     ++counters_.dropped_queue_full;
   }
 }
-void FrameAssembler::addOdometry(int64_t t_ns, const StampedPose& pose) {
+void FrameAssembler::addOdometry(int64_t t_ns, const StampedPose& pose, const PartArrival& arrival) {
   if (!pose.T_odom_camera.translation().allFinite() || !pose.T_odom_camera.rotation().coeffs().allFinite() ||
       (pose.twist_sigma_per_s && (!pose.twist_sigma_per_s->allFinite() || (pose.twist_sigma_per_s->array() <= 0.0).any()))) {
     ++counters_.parts_received;
     reject("odometry at " + std::to_string(t_ns) + " ns is not finite or has non-positive sigmas");
     return;
   }
-  if (Pending* p = slot(t_ns, "odometry")) p->pose = pose;
+  if (Pending* p = slot(t_ns, "odometry", arrival)) p->pose = pose;
 }
 
 bool FrameAssembler::complete(const Pending& p) const {
@@ -110,6 +109,8 @@ std::vector<ImageFrame> FrameAssembler::takeReady() {
     frame.image = it->second.colour;
     frame.depth_m = it->second.depth;
     frame.instance_ids = it->second.mask;
+    frame.timing = it->second.timing;
+    frame.timing.assembled_ns = wall_clock_ns_();
     if (it->second.pose) {
       if (last_released_pose_) {
         OdometryMeasurement odometry;

@@ -57,23 +57,30 @@ struct StampedPose {
   std::optional<Vec6> twist_sigma_per_s;
 };
 
+// When a part arrived (steady clock ns, SteadyClockNs; 0 = when it reaches the assembler) and how long
+// decoding it took: each released frame's FrameTiming starts from its parts' (first arrival, decoding
+// summed).
+struct PartArrival {
+  int64_t arrived_ns = 0;
+  double decode_ms = 0.0;
+};
+
 // Monotonic wall time in ns; injectable so that tests control it.
 using WallClockNs = std::function<int64_t()>;
-int64_t SteadyClockNs();
 
 class FrameAssembler {
  public:
   explicit FrameAssembler(const AssemblerParams& params, WallClockNs wall_clock_ns = SteadyClockNs);
 
-  void addColour(int64_t t_ns, const cv::Mat& image);
-  void addDepth(int64_t t_ns, const cv::Mat& depth_m);
-  void addMask(int64_t t_ns, const cv::Mat& instance_ids);
-  void addOdometry(int64_t t_ns, const StampedPose& pose);
+  void addColour(int64_t t_ns, const cv::Mat& image, const PartArrival& arrival = {});
+  void addDepth(int64_t t_ns, const cv::Mat& depth_m, const PartArrival& arrival = {});
+  void addMask(int64_t t_ns, const cv::Mat& instance_ids, const PartArrival& arrival = {});
+  void addOdometry(int64_t t_ns, const StampedPose& pose, const PartArrival& arrival = {});
   // Counts a sample that could not be decoded (the reason names the topic and the problem).
   void reject(const std::string& reason);
 
   // Complete frames in stamp order, numbered 0, 1, 2, ... with the odometry increment from the
-  // previous released frame's pose. Also applies the timeouts: against the newest stamp seen, and
+  // previous released frame's pose, and their timing (received, decode, assembled: now). Also applies the timeouts: against the newest stamp seen, and
   // against the wall time since the last part arrived.
   std::vector<ImageFrame> takeReady();
 
@@ -83,8 +90,9 @@ class FrameAssembler {
   struct Pending {
     cv::Mat colour, depth, mask;
     std::optional<StampedPose> pose;
+    FrameTiming timing;  // received_ns: the first part's arrival; decode_ms summed over the parts
   };
-  Pending* slot(int64_t t_ns, const char* what);
+  Pending* slot(int64_t t_ns, const char* what, const PartArrival& arrival);
   bool complete(const Pending& p) const;
   void boundPendingBytes();
 

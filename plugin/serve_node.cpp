@@ -24,6 +24,7 @@
 #include "plugin/ros_graph.h"
 #include "plugin/topics.h"
 #include "pipeline/bounded_queue.h"
+#include "pipeline/stage_latency.h"
 #include "pipeline/staged_pipeline.h"
 #include "sensor_msgs_ImagePubSubTypes.h"
 #include "visualization_msgs_MarkerArrayPubSubTypes.h"
@@ -92,7 +93,9 @@ class Vehicle {
     markers_writer_ =
         session.writer(topics.markers, new visualization_msgs::msg::MarkerArrayPubSubType(), "estimate_writer");
     StagedPipelineCallbacks callbacks;
-    callbacks.on_estimate = [this](const FrameEstimate& e, const FrameMeasurement& m) { publish(e, m); };
+    callbacks.on_estimate = [this](const FrameEstimate& e, const FrameMeasurement&, const FrameTiming& timing) {
+      publish(e, timing);
+    };
     callbacks.on_rejected = [this](const ImageFrame& frame, const std::string& reason) {
       {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -166,6 +169,7 @@ class Vehicle {
     std::lock_guard<std::mutex> lock(mutex_);
     VehicleStatus s = status_;
     s.counters = countersLocked();
+    s.latency = latency_.summary();
     return s;
   }
 
@@ -192,6 +196,7 @@ class Vehicle {
     info["dropped_queue_full"] = s.counters.dropped_queue_full;
     info["rejected_invalid"] = s.counters.rejected_invalid;
     info["samples_lost"] = s.counters.samples_lost;
+    info["latency_ms"] = LatencyJson(s.latency);
     try {
       WriteKittiTrajectory(dir + "/camera_ours.kitti", ReadTumTrajectory(dir + "/camera_ours.tum"));
       nlohmann::json metrics;
@@ -217,6 +222,7 @@ class Vehicle {
   static constexpr size_t kInboxSamplesPerFrame = 6;
 
   struct Sample {
+    int64_t arrived_ns = 0;         // taken from the reader (steady clock)
     std::optional<ImageRole> role;  // none: odometry
     sensor_msgs::msg::Image image;
     nav_msgs::msg::Odometry odometry;
@@ -229,8 +235,10 @@ class Vehicle {
       Sample sample;
       sample.role = role_;
       dds::SampleInfo info;
-      while (reader->take_next_sample(&sample.image, &info) == ReturnCode_t::RETCODE_OK)
+      while (reader->take_next_sample(&sample.image, &info) == ReturnCode_t::RETCODE_OK) {
+        sample.arrived_ns = SteadyClockNs();
         if (info.valid_data) vehicle_->inbox_.pushDropOldest(sample);
+      }
     }
     void on_sample_lost(dds::DataReader*, const dds::SampleLostStatus& status) override {
       vehicle_->samples_lost_ += static_cast<uint64_t>(std::max(0, status.total_count_change));
@@ -246,8 +254,10 @@ class Vehicle {
     void on_data_available(dds::DataReader* reader) override {
       Sample sample;
       dds::SampleInfo info;
-      while (reader->take_next_sample(&sample.odometry, &info) == ReturnCode_t::RETCODE_OK)
+      while (reader->take_next_sample(&sample.odometry, &info) == ReturnCode_t::RETCODE_OK) {
+        sample.arrived_ns = SteadyClockNs();
         if (info.valid_data) vehicle_->inbox_.pushDropOldest(sample);
+      }
     }
     void on_sample_lost(dds::DataReader*, const dds::SampleLostStatus& status) override {
       vehicle_->samples_lost_ += static_cast<uint64_t>(std::max(0, status.total_count_change));
@@ -263,24 +273,26 @@ class Vehicle {
       if (abandon_) continue;  // asked twice to stop: the backlog is dropped
       if (sample->role) {
         const ImageRole role = *sample->role;
+        const int64_t decode_start_ns = SteadyClockNs();
         DecodedImage decoded = DecodeImage(sample->image, role);
+        const PartArrival arrival{sample->arrived_ns, 1e-6 * static_cast<double>(SteadyClockNs() - decode_start_ns)};
         const int64_t t_ns = StampToNs(sample->image.header().stamp());
         std::lock_guard<std::mutex> lock(mutex_);
         if (!decoded.error.empty()) {
           assembler_.reject(decoded.error);
         } else if (role == ImageRole::kColour) {
-          assembler_.addColour(t_ns, decoded.image);
+          assembler_.addColour(t_ns, decoded.image, arrival);
         } else if (role == ImageRole::kDepth) {
-          assembler_.addDepth(t_ns, decoded.image);
+          assembler_.addDepth(t_ns, decoded.image, arrival);
         } else {
-          assembler_.addMask(t_ns, decoded.image);
+          assembler_.addMask(t_ns, decoded.image, arrival);
         }
       } else {
         std::string error;
         const auto pose = DecodeOdometry(sample->odometry, &error);
         std::lock_guard<std::mutex> lock(mutex_);
         if (pose) {
-          assembler_.addOdometry(StampToNs(sample->odometry.header().stamp()), *pose);
+          assembler_.addOdometry(StampToNs(sample->odometry.header().stamp()), *pose, {sample->arrived_ns, 0.0});
         } else {
           assembler_.reject(error);
         }
@@ -331,7 +343,7 @@ class Vehicle {
   }
 
   // The back-end thread, after each frame.
-  void publish(const FrameEstimate& estimate, const FrameMeasurement&) {
+  void publish(const FrameEstimate& estimate, const FrameTiming& timing_in) {
     ++frames_processed_;  // only this thread writes it until writeResults, after finish()
     nav_msgs::msg::Odometry odometry = EncodeOdometry(estimate.T_world_camera, estimate.t_ns, "world", "camera");
     odometry_writer_->write(&odometry);
@@ -339,6 +351,12 @@ class Vehicle {
     objects_writer_->write(&objects);
     visualization_msgs::msg::MarkerArray markers = ObjectMarkers(estimate, options_.frame_rate_hz);
     markers_writer_->write(&markers);
+    FrameTiming timing = timing_in;
+    timing.published_ns = SteadyClockNs();
+    // Capture to estimate is known when the stamps are of this host's clock (a driver here, or one
+    // synchronised with it): a stamp from another epoch (a replay's, a sensor's own) is not compared.
+    const double since_capture_ms = 1e-6 * static_cast<double>(SystemClockNs() - estimate.t_ns);
+    latency_.add(timing, since_capture_ms >= 0.0 && since_capture_ms < 60'000.0 ? since_capture_ms : -1.0);
     {
       std::lock_guard<std::mutex> lock(mutex_);
       ++status_.frames_processed;
@@ -382,6 +400,7 @@ class Vehicle {
   FrameAssembler assembler_;
   VehicleStatus status_;
   std::map<int64_t, Clock::time_point> handed_at_;  // stamps handed to the pipeline -> when (for the latency)
+  StageLatency latency_;  // per stage, over the session
   // Drops and rejections as of the last status message, to publish a new one when one more happens.
   uint64_t published_problems_ = 0;
   BoundedQueue<Sample> inbox_;

@@ -13,6 +13,7 @@
 
 #include "geometry/pinhole_camera.h"
 #include "pipeline/run_config.h"
+#include "pipeline/stage_latency.h"
 #include "plugin/frame_assembler.h"
 
 namespace dslam {
@@ -35,6 +36,7 @@ struct VehicleStatus {
   AssemblerCounters counters;
   uint64_t frames_processed = 0;
   double last_latency_ms = 0.0;  // frame assembled -> its estimate published
+  std::vector<StageLatencySummary> latency;  // per stage over the session (pipeline/stage_latency.h)
 };
 
 class ServeNode {

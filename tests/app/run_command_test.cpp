@@ -53,6 +53,11 @@ TEST(RunCommand, RunsTheImagePipelineAndWritesResultsFiguresAndAFrameLog) {
   EXPECT_GT(metrics["run"]["frontend"]["mean_static_points"].get<double>(), 200.0);
   EXPECT_TRUE(metrics["methods"].contains("static_only"));
   EXPECT_TRUE(metrics["methods"].contains("slam_mot"));
+  // Ours ran online: the latency of each stage, over every frame.
+  const auto& latency = metrics["run"]["latency_ms"];
+  for (const char* stage : {"input", "frontend", "backend", "total"}) EXPECT_EQ(latency[stage]["frames"], 25) << stage;
+  EXPECT_GE(latency["total"]["median_ms"].get<double>(), latency["frontend"]["median_ms"].get<double>());
+  EXPECT_NE(text.find("Latency per stage, ms (median/p99): input "), std::string::npos) << text;
 }
 
 TEST(RunCommand, DenseFlowAndOverlapAssociationAlsoFollowTheCars) {

@@ -101,6 +101,25 @@ TEST(FrameAssembler, ReleasesCompleteSetsInStampOrderWithOdometryIncrements) {
   EXPECT_EQ(a.counters().parts_received, 8u);
 }
 
+TEST(FrameAssembler, AFramesTimingStartsAtItsFirstPartAndSumsItsDecoding) {
+  FakeClock clock;
+  FrameAssembler a(WithOdometry(), clock.fn());
+  clock.now_ns = 5'000;
+  a.addDepth(100, kDepth, {3'000, 1.5});  // arrived at 3 us (taken from the reader), decoded in 1.5 ms
+  clock.now_ns = 6'000;
+  a.addMask(100, kMask, {0, 0.25});       // no arrival time given: when the assembler got it
+  clock.now_ns = 7'000;
+  a.addOdometry(100, PoseAt(0.0), {2'500, 0.0});
+  a.addColour(100, kImage, {4'000, 2.0});
+  clock.now_ns = 9'000;
+  const auto frames = a.takeReady();
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_EQ(frames[0].timing.received_ns, 2'500);
+  EXPECT_DOUBLE_EQ(frames[0].timing.decode_ms, 3.75);
+  EXPECT_EQ(frames[0].timing.assembled_ns, 9'000);
+  EXPECT_EQ(frames[0].timing.frontend_start_ns, 0);  // the pipeline's to fill in
+}
+
 TEST(FrameAssembler, DropsIncompleteSetsAfterTheTimeoutAndCountsThem) {
   AssemblerParams p = WithOdometry();
   p.timeout_ns = 1000;

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <set>
 #include <thread>
+#include <nlohmann/json.hpp>
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
@@ -255,6 +256,16 @@ TEST(ServeLoopback, EstimatesEqualTheRecordedRunAndSigtermWritesTheResults) {
   EXPECT_EQ(lines, 100);
   EXPECT_TRUE(fs::exists(out + "/default/camera_ours_online.tum"));
   EXPECT_NE(test::ReadFile(test::TempPath("serve.log")).find("100 frames, results written to"), std::string::npos);
+  // The latency budget over the session, per stage, each over every frame estimated.
+  std::ifstream metrics_file(out + "/default/metrics.json");
+  const nlohmann::json latency = nlohmann::json::parse(metrics_file)["run"]["latency_ms"];
+  for (const char* stage : {"input", "decode", "frontend_wait", "frontend", "backend_wait", "backend", "publish", "total"}) {
+    ASSERT_TRUE(latency.contains(stage)) << stage << ": " << latency.dump();
+    EXPECT_EQ(latency[stage]["frames"].get<int>(), 100) << stage;
+    EXPECT_LE(latency[stage]["median_ms"].get<double>(), latency[stage]["p99_ms"].get<double>()) << stage;
+  }
+  EXPECT_GT(latency["frontend"]["median_ms"].get<double>(), 0.0);
+  EXPECT_GT(latency["total"]["median_ms"].get<double>(), latency["frontend"]["median_ms"].get<double>());
 }
 
 TEST(ServeLoopback, ASecondSignalDropsTheBacklogAndStillWritesWhatWasEstimated) {
@@ -296,6 +307,7 @@ TEST(ServeLoopback, ASecondSignalDropsTheBacklogAndStillWritesWhatWasEstimated) 
     processed_counts.insert(text.substr(begin, p - begin));
     EXPECT_NE(text.find("dropped (backlog full)", p), std::string::npos);
   }
+  EXPECT_NE(text.find("latency ms (median/p99): input "), std::string::npos) << text;
   EXPECT_GE(processed_counts.size(), 2u) << text;
   // What was estimated is on disk, whole: one pose per processed frame.
   std::ifstream tum(out + "/default/camera_ours.tum");

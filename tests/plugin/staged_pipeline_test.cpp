@@ -63,9 +63,16 @@ TEST(StagedPipeline, EqualsTheSequentialPipelineAndCarriesARejectedFramesOdometr
     EXPECT_EQ(m.frame_index, measurements++);
     EXPECT_GE(ms, 0.0);
   };
-  callbacks.on_estimate = [&](const FrameEstimate& e, const FrameMeasurement& m) {
+  callbacks.on_estimate = [&](const FrameEstimate& e, const FrameMeasurement& m, const FrameTiming& t) {
     std::lock_guard<std::mutex> lock(mutex);
     EXPECT_EQ(e.t_ns, m.t_ns);
+    // The frame's timing comes through both stages, each time after the one before.
+    EXPECT_EQ(t.received_ns, e.t_ns + 1) << "the timing is the frame's own";
+    EXPECT_GE(t.frontend_start_ns, t.assembled_ns);
+    EXPECT_GE(t.frontend_end_ns, t.frontend_start_ns);
+    EXPECT_GE(t.backend_start_ns, t.frontend_end_ns);
+    EXPECT_GE(t.backend_end_ns, t.backend_start_ns);
+    EXPECT_GT(t.backend_end_ns, t.assembled_ns);
     estimates.push_back(e);
   };
   callbacks.on_rejected = [&](const ImageFrame& f, const std::string& reason) {
@@ -77,6 +84,8 @@ TEST(StagedPipeline, EqualsTheSequentialPipelineAndCarriesARejectedFramesOdometr
   for (int k = 0; k < data.size(); ++k) {
     ImageFrame f = data.read(k);
     if (k == kRejected) f.depth_m = cv::Mat(10, 10, CV_32FC1, cv::Scalar(1.0f));  // another size than the image
+    f.timing.received_ns = f.t_ns + 1;  // a marker, to tell that each estimate's timing is its frame's
+    f.timing.assembled_ns = SteadyClockNs();
     ASSERT_TRUE(staged.push(f));
   }
   const MethodResult result = staged.finish();
@@ -109,7 +118,7 @@ TEST(StagedPipeline, ACameraWithoutASizeTakesItFromTheFirstFrameThatFitsItsIntri
   std::vector<std::string> rejections;
   int estimates = 0;
   StagedPipelineCallbacks callbacks;
-  callbacks.on_estimate = [&](const FrameEstimate&, const FrameMeasurement&) {
+  callbacks.on_estimate = [&](const FrameEstimate&, const FrameMeasurement&, const FrameTiming&) {
     std::lock_guard<std::mutex> lock(mutex);
     ++estimates;
   };
