@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <iterator>
 #include <numeric>
 #include <sstream>
 
@@ -70,6 +71,7 @@ int main(int argc, char** argv) {
               data.camera().height);
   std::printf("%-12s %10s %10s %10s %14s %14s\n", "flow", "mean ms", "median ms", "p95 ms", "static pts", "object pts");
   std::vector<dslam::FrameMeasurement> lk_measurements;
+  std::vector<double> lk_phases[9];  // FrontendFrameStats::PhaseTimes, in its order
   for (dslam::FlowMethod method :
        {dslam::FlowMethod::kLucasKanade, dslam::FlowMethod::kDis, dslam::FlowMethod::kPrecomputed}) {
     dslam::FrontendParams params = config.frontend;
@@ -83,11 +85,25 @@ int main(int argc, char** argv) {
       ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
       static_points += m.static_points.size();
       for (const auto& o : m.objects) object_points += o.points.size();
-      if (method == dslam::FlowMethod::kLucasKanade) lk_measurements.push_back(std::move(m));
+      if (method == dslam::FlowMethod::kLucasKanade) {
+        lk_measurements.push_back(std::move(m));
+        const auto& p = frontend.lastStats().phase_ms;
+        const double values[] = {p.prepare_ms, p.flow_ms,    p.refine_ms,    p.warped_ms,     p.keep_ms,
+                                 p.pnp_ms,     p.objects_ms, p.replenish_ms, p.measurement_ms};
+        for (size_t i = 0; i < std::size(values); ++i) lk_phases[i].push_back(values[i]);
+      }
     }
     std::printf("%-12s %10.1f %10.1f %10.1f %14.0f %14.0f\n", dslam::ToString(method).c_str(),
                 std::accumulate(ms.begin(), ms.end(), 0.0) / ms.size(), Percentile(ms, 0.5), Percentile(ms, 0.95),
                 static_points / frames, object_points / frames);
+  }
+
+  {
+    const char* names[] = {"prepare", "flow", "refine", "warped", "keep", "pnp", "objects", "replenish", "measurement"};
+    std::printf("lk front-end phases, median (p95) ms:");
+    for (size_t i = 0; i < std::size(names); ++i)
+      std::printf(" %s %.1f (%.1f)%s", names[i], Percentile(lk_phases[i], 0.5), Percentile(lk_phases[i], 0.95),
+                  i + 1 < std::size(names) ? "," : "\n");
   }
 
   config.backend.default_mode = dslam::MotionMode::kSmoothed;

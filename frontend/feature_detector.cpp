@@ -16,6 +16,9 @@ void FeatureGridParams::validate() const {
 
 namespace {
 
+// FAST's Bresenham circle has radius 3: no corner is found closer than this to an image's border.
+constexpr int kFastBorderPx = 3;
+
 // Points per grid cell, with the positions kept for the minimum-distance test.
 class CellIndex {
  public:
@@ -48,26 +51,52 @@ class CellIndex {
 
 }  // namespace
 
+std::vector<cv::KeyPoint> DetectFastCorners(const cv::Mat& gray, int threshold) {
+  if (gray.type() != CV_8UC1) throw std::invalid_argument("feature detection needs an 8-bit grey image");
+  if (threshold < 1 || threshold > 255) throw std::invalid_argument("fast_threshold must be in 1..255");
+  std::vector<cv::KeyPoint> corners;
+  cv::FastFeatureDetector::create(threshold, true)->detect(gray, corners);
+  // Equal responses in image order: the selection must not depend on which other corners were detected.
+  std::sort(corners.begin(), corners.end(), [](const cv::KeyPoint& a, const cv::KeyPoint& b) {
+    if (a.response != b.response) return a.response > b.response;
+    return a.pt.y != b.pt.y ? a.pt.y < b.pt.y : a.pt.x < b.pt.x;
+  });
+  return corners;
+}
+
+std::vector<cv::Point2f> SelectOnGrid(const std::vector<cv::KeyPoint>& corners, const cv::Rect& region,
+                                      const cv::Mat& allowed, const std::vector<cv::Point2f>& existing,
+                                      const FeatureGridParams& params) {
+  params.validate();
+  if (!allowed.empty() && (allowed.type() != CV_8UC1 || allowed.size() != region.size()))
+    throw std::invalid_argument("feature mask must be CV_8UC1 of the region's size");
+  const cv::Point2f origin(static_cast<float>(region.x), static_cast<float>(region.y));
+  CellIndex index(region.size(), params.cell_px);
+  for (const cv::Point2f& p : existing) index.add(p - origin);
+  std::vector<cv::Point2f> found;
+  for (const cv::KeyPoint& kp : corners) {
+    if (kp.response < params.fast_threshold) break;  // strongest first: the rest respond less
+    const cv::Point2f p = kp.pt - origin;
+    const int u = static_cast<int>(p.x), v = static_cast<int>(p.y);
+    // FAST's own border: what a detection on the region alone could find (the circle fits in it).
+    if (u < kFastBorderPx || v < kFastBorderPx || u >= region.width - kFastBorderPx || v >= region.height - kFastBorderPx)
+      continue;
+    if (!allowed.empty() && !allowed.at<uint8_t>(v, u)) continue;
+    if (index.count(p) >= params.per_cell || index.near(p, params.min_distance_px)) continue;
+    index.add(p);
+    found.push_back(kp.pt);
+  }
+  return found;
+}
+
 std::vector<cv::Point2f> DetectOnGrid(const cv::Mat& gray, const cv::Mat& allowed, const std::vector<cv::Point2f>& existing,
                                       const FeatureGridParams& params) {
   params.validate();
   if (gray.type() != CV_8UC1) throw std::invalid_argument("feature detection needs an 8-bit grey image");
   if (!allowed.empty() && (allowed.type() != CV_8UC1 || allowed.size() != gray.size()))
     throw std::invalid_argument("feature mask must be CV_8UC1 of the image size");
-  std::vector<cv::KeyPoint> corners;
-  cv::FastFeatureDetector::create(params.fast_threshold, true)->detect(gray, corners, allowed);
-  std::sort(corners.begin(), corners.end(),
-            [](const cv::KeyPoint& a, const cv::KeyPoint& b) { return a.response > b.response; });
-
-  CellIndex index(gray.size(), params.cell_px);
-  for (const cv::Point2f& p : existing) index.add(p);
-  std::vector<cv::Point2f> found;
-  for (const cv::KeyPoint& kp : corners) {
-    if (index.count(kp.pt) >= params.per_cell || index.near(kp.pt, params.min_distance_px)) continue;
-    index.add(kp.pt);
-    found.push_back(kp.pt);
-  }
-  return found;
+  return SelectOnGrid(DetectFastCorners(gray, params.fast_threshold), cv::Rect(0, 0, gray.cols, gray.rows), allowed,
+                      existing, params);
 }
 
 std::vector<cv::Point2f> SampleLattice(const cv::Mat& allowed, const cv::Rect& region, int step_px) {

@@ -21,6 +21,17 @@ struct FeatureGridParams {
 std::vector<cv::Point2f> DetectOnGrid(const cv::Mat& gray, const cv::Mat& allowed, const std::vector<cv::Point2f>& existing,
                                       const FeatureGridParams& params);
 
+// The same in two steps, so that one detection serves several selections (the background and each
+// object of a frame): every FAST corner of `gray` at `threshold`, strongest first (a corner's response
+// does not depend on the threshold, so those of a higher threshold are the ones responding at least it)...
+std::vector<cv::KeyPoint> DetectFastCorners(const cv::Mat& gray, int threshold);
+// ... and those responding at least params.fast_threshold inside `region` (not within FAST's 3 px border
+// of it, as a detection on the region alone), where `allowed` (region-sized; empty: anywhere) is
+// non-zero, on a grid of cells from the region's corner; in image coordinates.
+std::vector<cv::Point2f> SelectOnGrid(const std::vector<cv::KeyPoint>& corners, const cv::Rect& region,
+                                      const cv::Mat& allowed, const std::vector<cv::Point2f>& existing,
+                                      const FeatureGridParams& params);
+
 // Pixels on a regular lattice with `step_px` spacing where `allowed` is non-zero: points for regions
 // without corners (an untextured car door still moves with the car).
 std::vector<cv::Point2f> SampleLattice(const cv::Mat& allowed, const cv::Rect& region, int step_px);

@@ -1,7 +1,9 @@
 #include "frontend/image_frontend.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <stdexcept>
 
@@ -66,6 +68,38 @@ double Median(std::vector<float> values) {
   std::nth_element(values.begin(), mid, values.end());
   return *mid;
 }
+
+// Where new points of `label` (0: the background) may go inside `region`, region-sized: its pixels,
+// with depth in [min_depth_m, max_depth_m], not near a mask edge. One pass (it ran as five whole-image
+// matrix expressions).
+cv::Mat NewPointMask(const cv::Mat& labels, const cv::Mat& depth, const cv::Mat& near_edge, const cv::Rect& region,
+                     int label, double min_depth_m, double max_depth_m) {
+  cv::Mat allowed(region.size(), CV_8UC1);
+  const float lo = static_cast<float>(min_depth_m);
+  const float hi = std::isfinite(max_depth_m) ? static_cast<float>(max_depth_m) : std::numeric_limits<float>::infinity();
+  for (int v = 0; v < region.height; ++v) {
+    const int32_t* l = labels.ptr<int32_t>(region.y + v) + region.x;
+    const float* z = depth.ptr<float>(region.y + v) + region.x;
+    const uint8_t* edge = near_edge.ptr<uint8_t>(region.y + v) + region.x;
+    uint8_t* out = allowed.ptr<uint8_t>(v);
+    for (int u = 0; u < region.width; ++u) out[u] = (l[u] == label && z[u] >= lo && z[u] <= hi && !edge[u]) ? 255 : 0;
+  }
+  return allowed;
+}
+
+// Milliseconds since the last lap (or construction), for FrontendFrameStats::phase_ms.
+class PhaseClock {
+ public:
+  double lap() {
+    const auto now = std::chrono::steady_clock::now();
+    const double ms = std::chrono::duration<double, std::milli>(now - last_).count();
+    last_ = now;
+    return ms;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
 
 }  // namespace
 
@@ -144,6 +178,7 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
                                 ": flow method 'precomputed' but the previous frame came without a flow field");
 
   FrontendFrameStats stats;
+  PhaseClock phase;
   const cv::Mat gray = GreyImage(frame.image);
   const cv::Mat labels = ToLabels(frame.instance_ids, gray.size());
   const cv::Mat& depth = frame.depth_m;
@@ -173,6 +208,7 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
   // Pixels near a mask edge mix the depths of object and background, and a point tracked there may be
   // sliding along an occluding contour: no points are kept or created there.
   const cv::Mat near_edge = NearMaskEdge(labels, params_.mask_border_px);
+  stats.phase_ms.prepare_ms = phase.lap();
 
   // 1. Flow.
   std::vector<Track> moved;
@@ -187,7 +223,9 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
     std::optional<SE3> camera_motion =
         frame.odometry ? std::optional<SE3>(frame.odometry->T_prev_curr) : last_camera_motion_;
     PixelPrediction prediction = predictPixels(camera_motion, label_boxes);
+    stats.phase_ms.prepare_ms += phase.lap();
     FlowResult flow = flow_.track(prev_gray_, gray, prev_px, prev_flow_to_next_, prediction.px);
+    stats.phase_ms.flow_ms = phase.lap();
     // The searches for object tracks below (Lucas-Kanade's) start from where the camera's and the
     // object's motions put them. The static tracks just found give the camera's motion more exactly than
     // odometry or the last frame's (rendered 0005's odometry is 0.1 to 0.2 m off per frame: 10 to 20 px
@@ -200,7 +238,9 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
     }
     resolveStillHypothesis(gray, prev_px, prediction, &flow, &stats.ambiguous);
     retryNearPrediction(gray, prev_px, prediction, &flow);
+    stats.phase_ms.refine_ms = phase.lap();
     reacquireWarped(gray, camera_motion, &flow, &stats);
+    stats.phase_ms.warped_ms = phase.lap();
     std::vector<float> fb;
     for (size_t i = 0; i < tracks_.size(); ++i) {
       // A point that its box takes out of view is gone: on a repetitive texture the flow search still
@@ -254,6 +294,8 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
     p_curr_camera.push_back(camera_.backProject(t.px.x, t.px.y, z));
   }
 
+  stats.phase_ms.keep_ms = phase.lap();
+
   // 4a. Camera motion from the static tracks; drop their outliers.
   std::vector<Vec3> static_prev;
   std::vector<Vec2> static_uv;
@@ -278,6 +320,8 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
     T_prev_curr = FuseUnlessContradicted(*pnp, frame.odometry, params_.odometry_gate_chi2, &odometry_rejected);
     stats.odometry_rejected = odometry_rejected;
   }
+
+  stats.phase_ms.pnp_ms = phase.lap();
 
   // 4b. Each object's motion (in the previous camera frame) by 3D-3D RANSAC; drop its outliers.
   std::map<int, std::vector<size_t>> object_tracks;
@@ -314,9 +358,12 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
     if (t.object_id != 0) ++stats.object_counts[t.object_id].tracked;
   }
 
+  stats.phase_ms.objects_ms = phase.lap();
+
   // 5. New points.
   const size_t before = tracks.size();
   replenish(gray, depth, labels, near_edge, object_of_label, label_boxes, T_prev_curr, &tracks);
+  stats.phase_ms.replenish_ms = phase.lap();
   for (size_t i = before; i < tracks.size(); ++i) {
     (tracks[i].object_id == 0 ? stats.static_new : stats.object_points_new)++;
     if (tracks[i].object_id != 0) ++stats.object_counts[tracks[i].object_id].added;
@@ -368,6 +415,7 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
   prev_depth_ = depth;
   prev_flow_to_next_ = frame.flow_to_next;
   prev_frame_index_ = frame.frame_index;
+  stats.phase_ms.measurement_ms = phase.lap();
   stats_ = stats;
   return out;
 }
@@ -637,13 +685,17 @@ void ImageFrontend::replenish(const cv::Mat& gray, const cv::Mat& depth, const c
                               const cv::Mat& near_edge, const std::map<int, int>& object_of_label,
                               const std::map<int, cv::Rect>& label_boxes, const std::optional<SE3>& T_prev_curr,
                               std::vector<Track>* tracks) {
-  const cv::Mat background = (labels == 0) & (depth >= params_.static_min_depth_m) &
-                             (depth <= params_.static_max_depth_m) & ~near_edge;
+  // One FAST detection serves the background and every object (their thresholds select from it).
+  const std::vector<cv::KeyPoint> corners =
+      DetectFastCorners(gray, std::min(params_.static_grid.fast_threshold, params_.object_grid.fast_threshold));
+  const cv::Rect image(0, 0, gray.cols, gray.rows);
+  const cv::Mat background = NewPointMask(labels, depth, near_edge, image, 0, params_.static_min_depth_m,
+                                          params_.static_max_depth_m);
   std::vector<cv::Point2f> existing;
   for (const Track& t : *tracks)
     if (t.object_id == 0) existing.push_back(t.px);
   const auto point_at = [&](const cv::Point2f& px) { return camera_.backProject(px.x, px.y, DepthAt(depth, px)); };
-  for (const cv::Point2f& px : DetectOnGrid(gray, background, existing, params_.static_grid))
+  for (const cv::Point2f& px : SelectOnGrid(corners, image, background, existing, params_.static_grid))
     tracks->push_back({next_track_id_++, 0, px, point_at(px)});
 
   // The next frame's camera motion is taken to repeat this one's (as the next prediction does).
@@ -656,16 +708,16 @@ void ImageFrontend::replenish(const cv::Mat& gray, const cv::Mat& depth, const c
     const int missing = params_.max_points_per_object - staying;
     if (missing <= 0) continue;
     const cv::Rect box = label_boxes.at(label);
-    const cv::Mat inside = (labels(box) == label) & (depth(box) >= params_.static_min_depth_m) & ~near_edge(box);
+    const cv::Mat inside = NewPointMask(labels, depth, near_edge, box, label, params_.static_min_depth_m,
+                                        std::numeric_limits<double>::infinity());
     std::vector<cv::Point2f> here;
     for (const Track& t : *tracks)
       if (t.object_id == object_id) here.push_back(t.px);
     const cv::Point2f offset(static_cast<float>(box.x), static_cast<float>(box.y));
-    std::vector<cv::Point2f> found = DetectOnGrid(gray(box), inside, {}, params_.object_grid);
+    std::vector<cv::Point2f> found = SelectOnGrid(corners, box, inside, {}, params_.object_grid);
     if (static_cast<int>(found.size()) < missing)
       for (const auto& p : SampleLattice(inside, cv::Rect(0, 0, box.width, box.height), params_.object_lattice_step_px))
-        found.push_back(p);
-    for (auto& p : found) p += offset;
+        found.push_back(p + offset);
     int added = 0;
     for (const cv::Point2f& p : found) {
       if (added >= missing) break;

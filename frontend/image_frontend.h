@@ -52,6 +52,15 @@ struct FrontendFrameStats {
     bool motion_rejected = false;  // its motion fit broke the acceleration bound
   };
   std::map<int, ObjectCounts> object_counts;  // by object id
+  // Where the frame's time went, ms (steady clock): grey image, labels and mask edges; the flow search;
+  // the searches that refine it (camera motion from static flow, still starts, retries near the
+  // prediction); the warped-patch reacquisition; keeping tracks (association, mask and depth checks);
+  // the camera's PnP; the objects' RANSAC; new points; the measurement.
+  struct PhaseTimes {
+    double prepare_ms = 0, flow_ms = 0, refine_ms = 0, warped_ms = 0, keep_ms = 0, pnp_ms = 0, objects_ms = 0,
+           replenish_ms = 0, measurement_ms = 0;
+  };
+  PhaseTimes phase_ms;
 };
 
 class ImageFrontend {
