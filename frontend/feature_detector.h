@@ -2,6 +2,8 @@
 // New features on a grid: FAST corners, strongest first, at most `per_cell` in each cell of the image
 // grid (counting the points already tracked there) and never closer than `min_distance_px` to another
 // point, so that the features spread over the image instead of piling up on the most textured patch.
+// Only the cells that can still take a feature are searched (the result is that of a search of the whole
+// image), so that detection costs little once the tracks fill the grid.
 
 #include <vector>
 
@@ -21,16 +23,6 @@ struct FeatureGridParams {
 std::vector<cv::Point2f> DetectOnGrid(const cv::Mat& gray, const cv::Mat& allowed, const std::vector<cv::Point2f>& existing,
                                       const FeatureGridParams& params);
 
-// The same in two steps, so that one detection serves several selections (the background and each
-// object of a frame): every FAST corner of `gray` at `threshold`, strongest first (a corner's response
-// does not depend on the threshold, so those of a higher threshold are the ones responding at least it)...
-std::vector<cv::KeyPoint> DetectFastCorners(const cv::Mat& gray, int threshold);
-// ... and those responding at least params.fast_threshold inside `region` (not within FAST's 3 px border
-// of it, as a detection on the region alone), where `allowed` (region-sized; empty: anywhere) is
-// non-zero, on a grid of cells from the region's corner; in image coordinates.
-std::vector<cv::Point2f> SelectOnGrid(const std::vector<cv::KeyPoint>& corners, const cv::Rect& region,
-                                      const cv::Mat& allowed, const std::vector<cv::Point2f>& existing,
-                                      const FeatureGridParams& params);
 
 // Pixels on a regular lattice with `step_px` spacing where `allowed` is non-zero: points for regions
 // without corners (an untextured car door still moves with the car).

@@ -685,9 +685,6 @@ void ImageFrontend::replenish(const cv::Mat& gray, const cv::Mat& depth, const c
                               const cv::Mat& near_edge, const std::map<int, int>& object_of_label,
                               const std::map<int, cv::Rect>& label_boxes, const std::optional<SE3>& T_prev_curr,
                               std::vector<Track>* tracks) {
-  // One FAST detection serves the background and every object (their thresholds select from it).
-  const std::vector<cv::KeyPoint> corners =
-      DetectFastCorners(gray, std::min(params_.static_grid.fast_threshold, params_.object_grid.fast_threshold));
   const cv::Rect image(0, 0, gray.cols, gray.rows);
   const cv::Mat background = NewPointMask(labels, depth, near_edge, image, 0, params_.static_min_depth_m,
                                           params_.static_max_depth_m);
@@ -695,7 +692,7 @@ void ImageFrontend::replenish(const cv::Mat& gray, const cv::Mat& depth, const c
   for (const Track& t : *tracks)
     if (t.object_id == 0) existing.push_back(t.px);
   const auto point_at = [&](const cv::Point2f& px) { return camera_.backProject(px.x, px.y, DepthAt(depth, px)); };
-  for (const cv::Point2f& px : SelectOnGrid(corners, image, background, existing, params_.static_grid))
+  for (const cv::Point2f& px : DetectOnGrid(gray, background, existing, params_.static_grid))
     tracks->push_back({next_track_id_++, 0, px, point_at(px)});
 
   // The next frame's camera motion is taken to repeat this one's (as the next prediction does).
@@ -714,10 +711,11 @@ void ImageFrontend::replenish(const cv::Mat& gray, const cv::Mat& depth, const c
     for (const Track& t : *tracks)
       if (t.object_id == object_id) here.push_back(t.px);
     const cv::Point2f offset(static_cast<float>(box.x), static_cast<float>(box.y));
-    std::vector<cv::Point2f> found = SelectOnGrid(corners, box, inside, {}, params_.object_grid);
+    std::vector<cv::Point2f> found = DetectOnGrid(gray(box), inside, {}, params_.object_grid);
     if (static_cast<int>(found.size()) < missing)
       for (const auto& p : SampleLattice(inside, cv::Rect(0, 0, box.width, box.height), params_.object_lattice_step_px))
-        found.push_back(p + offset);
+        found.push_back(p);
+    for (auto& p : found) p += offset;
     int added = 0;
     for (const cv::Point2f& p : found) {
       if (added >= missing) break;

@@ -1,6 +1,9 @@
 #include "frontend/feature_detector.h"
 
+#include <algorithm>
+
 #include <gtest/gtest.h>
+#include <opencv2/features2d.hpp>
 
 #include "support/synthetic_images.h"
 
@@ -35,31 +38,45 @@ TEST(DetectOnGrid, CountsExistingPointsTowardsTheirCells) {
   EXPECT_TRUE(DetectOnGrid(gray, cv::Mat(), first, params).empty());
 }
 
-TEST(SelectOnGrid, OneDetectionServesEveryThresholdAndRegion) {
+// The search skips the cells the existing points fill; what it finds is what a search of the whole image
+// finds (FAST over the whole image, strongest first, equal responses in image order).
+TEST(DetectOnGrid, SearchingOnlyTheOpenCellsFindsWhatTheWholeImageGives) {
   const cv::Mat gray = test::RandomTexture(320, 192, 5);
-  FeatureGridParams strict;
-  strict.cell_px = 24, strict.per_cell = 2, strict.fast_threshold = 20, strict.min_distance_px = 5;
-  const std::vector<cv::KeyPoint> corners = DetectFastCorners(gray, 5);
-  for (size_t i = 1; i < corners.size(); ++i) ASSERT_GE(corners[i - 1].response, corners[i].response);
-  // A corner's response does not depend on the threshold: selecting at 20 from a detection at 5 is detecting at 20.
-  const cv::Rect image(0, 0, gray.cols, gray.rows);
-  EXPECT_EQ(SelectOnGrid(corners, image, cv::Mat(), {}, strict), DetectOnGrid(gray, cv::Mat(), {}, strict));
-  // A region: its cells start at its corner, its mask is its size, the points come in image coordinates.
-  const cv::Rect box(70, 40, 120, 96);
-  cv::Mat inside(box.size(), CV_8UC1, cv::Scalar(255));
-  inside(cv::Rect(0, 0, 60, 96)).setTo(0);  // only the right half
-  FeatureGridParams dense = strict;
-  dense.cell_px = 10, dense.per_cell = 1, dense.fast_threshold = 5;
-  const std::vector<cv::Point2f> in_box = SelectOnGrid(corners, box, inside, {}, dense);
-  ASSERT_GT(in_box.size(), 10u);
-  for (const cv::Point2f& p : in_box) {
-    EXPECT_TRUE(box.contains(cv::Point(static_cast<int>(p.x), static_cast<int>(p.y)))) << p;
-    EXPECT_GE(p.x, box.x + 60.0f) << p;
-  }
-  // Existing points (image coordinates) fill their cells of the region.
-  const std::vector<cv::Point2f> after = SelectOnGrid(corners, box, inside, in_box, dense);
-  EXPECT_TRUE(after.empty()) << after.size();
-  EXPECT_THROW(SelectOnGrid(corners, box, cv::Mat(gray.size(), CV_8UC1), {}, dense), std::invalid_argument);
+  FeatureGridParams params;
+  params.cell_px = 24, params.per_cell = 2, params.fast_threshold = 12, params.min_distance_px = 5;
+  cv::Mat allowed(gray.size(), CV_8UC1, cv::Scalar(255));
+  allowed(cv::Rect(150, 60, 70, 50)).setTo(0);
+  auto whole_image = [&](const std::vector<cv::Point2f>& existing) {
+    std::vector<cv::KeyPoint> corners;
+    cv::FastFeatureDetector::create(params.fast_threshold, true)->detect(gray, corners, allowed);
+    std::sort(corners.begin(), corners.end(), [](const cv::KeyPoint& a, const cv::KeyPoint& b) {
+      if (a.response != b.response) return a.response > b.response;
+      return a.pt.y != b.pt.y ? a.pt.y < b.pt.y : a.pt.x < b.pt.x;
+    });
+    std::vector<cv::Point2f> taken = existing, out;
+    for (const cv::KeyPoint& kp : corners) {
+      const cv::Point cell(static_cast<int>(kp.pt.x) / 24, static_cast<int>(kp.pt.y) / 24);
+      int in_cell = 0;
+      bool near = false;
+      for (const cv::Point2f& q : taken) {
+        in_cell += cv::Point(static_cast<int>(q.x) / 24, static_cast<int>(q.y) / 24) == cell;
+        near = near || cv::norm(kp.pt - q) < 5.0;
+      }
+      if (in_cell >= 2 || near) continue;
+      taken.push_back(kp.pt);
+      out.push_back(kp.pt);
+    }
+    return out;
+  };
+  EXPECT_EQ(DetectOnGrid(gray, allowed, {}, params), whole_image({}));
+  // Most cells full already: a few open cells, here and there, searched alone.
+  std::vector<cv::Point2f> existing;
+  for (int y = 0; y < 192; y += 24)
+    for (int x = 0; x < 320; x += 24)
+      if ((x / 24 + 3 * (y / 24)) % 5 != 0) existing.insert(existing.end(), {{x + 4.0f, y + 4.0f}, {x + 16.0f, y + 16.0f}});
+  const std::vector<cv::Point2f> found = DetectOnGrid(gray, allowed, existing, params);
+  EXPECT_GT(found.size(), 10u);
+  EXPECT_EQ(found, whole_image(existing));
 }
 
 TEST(SampleLattice, TakesEveryStepInsideTheMask) {
