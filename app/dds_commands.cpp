@@ -59,6 +59,7 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
     serve.assembler.timeout_ns = static_cast<int64_t>(options.timeout_ms) * 1'000'000;
     serve.assembler.silence_timeout_ns = static_cast<int64_t>(options.silence_ms) * 1'000'000;
     serve.assembler.max_pending = options.max_pending;
+    serve.every_frame = options.every_frame;
     if (options.max_pending_mb < 16 || options.max_pending_mb > 8192)
       throw std::invalid_argument("--max-pending-mb must be in 16..8192");
     serve.assembler.max_pending_bytes = static_cast<size_t>(options.max_pending_mb) << 20;

@@ -24,6 +24,7 @@ struct ServeCommandOptions {
   int silence_ms = 2000;                // with no sample for this long, incomplete sets are dropped
   int max_pending = 8;                  // frame sets waiting for assembly or for the pipeline (oldest dropped)
   int max_pending_mb = 256;             // ... and at most this many MiB of their pixels
+  bool every_frame = false;             // estimate every frame however late (else the newest frame wins)
   double status_every_s = 5.0;          // status line period on the console (0: never)
   double max_run_s = 0.0;               // stop by itself after this long (0: only on SIGINT/SIGTERM)
   std::string node_name = "dslam";      // ROS 2 node per vehicle, for `ros2 node list`

@@ -214,13 +214,16 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   serve_cmd->add_option("--max-pending", serve.max_pending,
-                        "Frame sets held while the pipeline is busy (1 to 64); beyond, the oldest is dropped and counted")
+                        "Frame sets held for assembly (and with --every-frame while the pipeline is busy), 1 to 64; beyond, the oldest is dropped and counted")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
   serve_cmd->add_option("--max-pending-mb", serve.max_pending_mb,
                         "At most this many MiB of pixels in those sets (16 to 8192); beyond, the oldest is dropped")
       ->check(CLI::Range(16, 8192))
       ->capture_default_str();
+  serve_cmd->add_flag("--every-frame", serve.every_frame,
+                      "Estimate every assembled frame however late (replays); by default, when serve falls behind, "
+                      "the newest frame wins and older waiting frames are dropped (counted, their odometry carried on)");
   serve_cmd->add_option("--status-every", serve.status_every_s, "Console status period, s (0: never)")
       ->capture_default_str();
   serve_cmd->add_option("--max-run", serve.max_run_s, "Stop by itself after this many seconds (0: never)")

@@ -36,11 +36,20 @@ class BoundedQueue {
 
   // Never waits; drops (and counts) the oldest item when full. False once the queue is closed.
   bool pushDropOldest(T item) {
+    return pushDropOldest(std::move(item), [](const T&, T&) {});
+  }
+  // The same, handing the dropped item and the one that now comes first after it to carry(dropped, next)
+  // before it goes, so that what the next one needs of it survives (a dropped frame's odometry composed
+  // into the next frame's).
+  template <class Carry>
+  bool pushDropOldest(T item, Carry carry) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (closed_) return false;
     if (items_.size() >= capacity_) {
+      T dropped = std::move(items_.front());
       items_.pop_front();
       ++dropped_;
+      carry(static_cast<const T&>(dropped), items_.empty() ? item : items_.front());
     }
     items_.push_back(std::move(item));
     not_empty_.notify_one();

@@ -32,6 +32,16 @@ StagedPipeline::~StagedPipeline() {
 
 bool StagedPipeline::push(ImageFrame frame) { return frames_.push(std::move(frame)); }
 
+bool StagedPipeline::pushNewest(ImageFrame frame) {
+  return frames_.pushDropOldest(std::move(frame), [](const ImageFrame& dropped, ImageFrame& next) {
+    // A dropped first frame (no increment into it) makes the next one the first.
+    if (!dropped.odometry)
+      next.odometry.reset();
+    else if (next.odometry)
+      next.odometry = Compose(*dropped.odometry, *next.odometry);
+  });
+}
+
 void StagedPipeline::fail(std::exception_ptr error) {
   {
     std::lock_guard<std::mutex> lock(error_mutex_);

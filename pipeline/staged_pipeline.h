@@ -4,10 +4,11 @@
 // value packets (ImageFrame in, FrameMeasurement between). A frame goes through the same code in the same
 // order as in VehiclePipeline, so the estimates are the same; only the stages overlap in time.
 //
-// Both queues apply back-pressure (push waits) instead of dropping: a measurement refers to the previous
-// frame's tracks, pose and per-frame object motion, so a dropped packet would corrupt the next one.
-// Whoever feeds the pipeline drops frames before it, where the frames' odometry can still be composed
-// (the DDS frame assembler drops the oldest incomplete or waiting sets and counts them).
+// The measurements' queue applies back-pressure (the front-end waits) instead of dropping: a measurement
+// refers to the previous frame's tracks, pose and per-frame object motion, so a dropped one would corrupt
+// the next. Frames can be dropped before the front-end, where their odometry can still be composed:
+// push() waits for room (every frame estimated, however late), pushNewest() drops the oldest waiting
+// frame (the estimate never lags behind by more than the frames in the queues).
 
 #include <atomic>
 #include <exception>
@@ -55,6 +56,12 @@ class StagedPipeline {
 
   // Waits while the front-end's queue is full; false once the pipeline stopped (an error, or finish()).
   bool push(ImageFrame frame);
+  // Never waits: when the front-end's queue is full, its oldest frame is dropped (counted in
+  // framesDropped()) and its odometry composed into the frame after it, so that a pipeline that falls
+  // behind estimates the newest frames instead of an ever older backlog. With a queue capacity of 1 a
+  // frame waits at most for the frame before it. False once the pipeline stopped.
+  bool pushNewest(ImageFrame frame);
+  uint64_t framesDropped() const { return frames_.dropped(); }
   // Processes everything pushed, joins the stages and returns ours' result; throws a stage's error.
   MethodResult finish();
   // From any thread, also while finish() waits: the frames and measurements still queued are dropped

@@ -104,9 +104,11 @@ class Vehicle {
       }
       wake_.notify_one();  // the feeder reports the rejection
     };
-    pipeline_ = std::make_unique<StagedPipeline>(config, options.camera, options.frame_rate_hz,
-                                                 static_cast<size_t>(options.assembler.max_pending), callbacks, &stream_,
-                                                 /*collect=*/false);
+    // Newest wins: one frame waits before each stage, so that an estimate lags its image by at most the
+    // frames in progress; every frame: up to --max-pending wait.
+    const size_t queue_capacity = options.every_frame ? static_cast<size_t>(options.assembler.max_pending) : 1;
+    pipeline_ = std::make_unique<StagedPipeline>(config, options.camera, options.frame_rate_hz, queue_capacity, callbacks,
+                                                 &stream_, /*collect=*/false);
     // Readers first: when one cannot be created (a missing profile, security denying the topic) the
     // constructor throws before any thread of ours runs. Samples that arrive meanwhile wait in the inbox.
     std::vector<dds::DataReader*> readers;
@@ -317,7 +319,12 @@ class Vehicle {
         if (frames.empty() && stopping_) return;
       }
       if (abandon_) return;
-      for (ImageFrame& frame : frames) pipeline_->push(std::move(frame));
+      for (ImageFrame& frame : frames) {
+        if (options_.every_frame)
+          pipeline_->push(std::move(frame));
+        else
+          pipeline_->pushNewest(std::move(frame));
+      }
       // Drops and rejections with no frame to follow (a stream that stopped, a stream of bad samples)
       // are reported too, stamped with the wall time.
       if (frames.empty() && counters_changed) publishStatus(SystemClockNs());
@@ -327,7 +334,7 @@ class Vehicle {
   // The assembler's counters plus the samples the inbox dropped (as queue-full drops). Under mutex_.
   AssemblerCounters countersLocked() const {
     AssemblerCounters c = assembler_.counters();
-    c.dropped_queue_full += inbox_.dropped();
+    c.dropped_queue_full += inbox_.dropped() + pipeline_->framesDropped();
     c.samples_lost = samples_lost_;
     return c;
   }

@@ -26,6 +26,10 @@ struct ServeOptions {
   PinholeCamera camera;          // intrinsics; width/height 0 = from the first frame
   double frame_rate_hz = 10.0;
   std::string out_dir = "results/serve";  // results per vehicle under out_dir/<vehicle or "default">
+  // When serve falls behind: false, the newest frame wins (a frame waits at most for the one before it;
+  // older waiting frames are dropped, counted, their odometry carried on), so that estimates never lag;
+  // true, every assembled frame is estimated however late (a replay, an offline recording).
+  bool every_frame = false;
   // ROS 2 graph presence: per vehicle a node <node_name> in namespace /<vehicle> (or /), announced on
   // ros_discovery_info in the GID layout of this distribution (plugin/ros_graph.h).
   std::string node_name = "dslam";

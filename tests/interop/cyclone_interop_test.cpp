@@ -85,7 +85,7 @@ std::vector<std::string> ServeArgs(int domain, const std::string& profiles, cons
                                    const std::string& out) {
   return {"serve", "--domain", std::to_string(domain), "--profiles", profiles, "--calib", dataset + "/calib.txt",
           "--out", out, "--status-every", "0", "--max-pending", "64", "--max-pending-mb", "2048", "--timeout-ms",
-          "5000", "--silence-ms", "30000"};
+          "5000", "--silence-ms", "30000", "--every-frame"};
 }
 
 // The Cyclone listener of serve's outputs, started first: it is volatile, as ROS 2's default, so it must have

@@ -41,6 +41,20 @@ TEST(BoundedQueue, PushDropOldestNeverWaitsAndCountsWhatItDropped) {
   EXPECT_EQ(queue.pop(), 9);
 }
 
+TEST(BoundedQueue, ADroppedItemHandsWhatTheNextNeedsOnToIt) {
+  // As a dropped frame's odometry goes into the next frame's: here each item carries a sum on.
+  BoundedQueue<int> queue(2);
+  auto carry = [](const int& dropped, int& next) { next += dropped; };
+  for (int i = 1; i <= 5; ++i) EXPECT_TRUE(queue.pushDropOldest(i, carry));
+  EXPECT_EQ(queue.dropped(), 3u);
+  EXPECT_EQ(queue.pop(), 1 + 2 + 3 + 4);  // 1 into 2, (1+2) into 3, (1+2+3) into 4
+  EXPECT_EQ(queue.pop(), 5);
+  BoundedQueue<int> one(1);  // capacity 1: the dropped item's successor is the new one
+  EXPECT_TRUE(one.pushDropOldest(10, carry));
+  EXPECT_TRUE(one.pushDropOldest(1, carry));
+  EXPECT_EQ(one.pop(), 11);
+}
+
 TEST(BoundedQueue, CloseDrainsThenEndsAndReleasesWaitingThreads) {
   BoundedQueue<int> queue(1);
   queue.push(1);

@@ -33,7 +33,7 @@ TEST(DdsSecurity, OnlyAuthenticatedParticipantsCanInjectFrames) {
   const std::string trusted_profiles =
       test::WithLosslessSensorStreams(certs + "/publisher_profiles.xml", certs + "/publisher_lossless_profiles.xml");
   test::Process serve({"serve", "--domain", domain, "--profiles", serve_profiles, "--calib",
-                       dataset + "/calib.txt", "--out", out, "--status-every", "0"},
+                       dataset + "/calib.txt", "--out", out, "--status-every", "0", "--every-frame"},
                       test::TempPath("secure_serve.log"));
   // --wait: how long a publisher looks for serve's readers; one without valid credentials never finds them.
   auto publish = [&](const std::string& profiles, const std::string& log, const std::string& wait_s) {

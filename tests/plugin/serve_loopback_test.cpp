@@ -8,6 +8,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <sstream>
 #include <algorithm>
@@ -217,11 +218,13 @@ const std::string& LosslessProfiles() {
   return path;
 }
 
-// Generous timeouts: a loaded machine may stall a publisher between the parts of a frame.
+// Generous timeouts: a loaded machine may stall a publisher between the parts of a frame. Every frame is
+// estimated (--every-frame), so that the estimates can be compared with a recorded run's.
 std::vector<std::string> ServeArgs(int domain, const std::string& dataset, const std::string& out,
                                    const std::string& silence_ms = "30000") {
   return {"serve", "--domain", std::to_string(domain), "--profiles", LosslessProfiles(), "--calib", dataset + "/calib.txt",
-          "--out", out, "--status-every", "0", "--max-pending", "64", "--max-pending-mb", "2048", "--timeout-ms", "5000", "--silence-ms", silence_ms};
+          "--out", out, "--status-every", "0", "--max-pending", "64", "--max-pending-mb", "2048", "--timeout-ms", "5000",
+          "--silence-ms", silence_ms, "--every-frame"};
 }
 
 // The same without shared memory: the publisher reaches serve over UDP, as a camera driver on another host.
@@ -314,6 +317,56 @@ TEST(ServeLoopback, ASecondSignalDropsTheBacklogAndStillWritesWhatWasEstimated) 
   int lines = 0;
   for (std::string line; std::getline(tum, line);) lines += !line.empty() && line[0] != '#';
   EXPECT_EQ(lines, processed);
+}
+
+// By default, when serve falls behind the newest frame wins: frames are dropped before the front-end
+// (counted, their odometry carried on) instead of waiting, so that the time from a frame's arrival to
+// its estimate stays within a few stage times however far behind serve is.
+TEST(ServeLoopback, WhenItFallsBehindTheNewestFrameWinsAndTheDelayStaysBounded) {
+  const std::string dataset = CityDataset(100, 1);
+  const int domain = test::DomainFor(test::DdsTestSlot::kLoopbackNewestWins);
+  const std::string out = test::TempPath("serve_newest_out");
+  const std::string log = test::TempPath("serve_newest.log");
+  std::vector<std::string> args = ServeArgs(domain, dataset, out);
+  args.erase(std::find(args.begin(), args.end(), "--every-frame"));
+  const std::string slow = test::TempPath("slow_backend_newest.yaml");  // as in the test above: far behind
+  std::ofstream(slow) << "backend:\n  schedule: window:40\n  object_window_frames: 40\n";
+  args.insert(args.end(), {"--config", slow});
+  test::Process serve(args, log);
+  Listener listener(domain, "");
+  test::Process publish(PublishArgs(domain, dataset, "50"), test::TempPath("publish_newest.log"));
+  ASSERT_EQ(publish.wait(120s), 0) << test::ReadFile(test::TempPath("publish_newest.log"));
+  std::this_thread::sleep_for(3s);  // the frames in progress finish
+  serve.signal(SIGTERM);
+  ASSERT_EQ(serve.wait(120s), 0) << test::ReadFile(log);
+
+  std::ifstream metrics_file(out + "/default/metrics.json");
+  ASSERT_TRUE(metrics_file) << test::ReadFile(log);
+  const nlohmann::json run = nlohmann::json::parse(metrics_file)["run"];
+  const int processed = run["frames"].get<int>();
+  EXPECT_EQ(run["frames_assembled"].get<int>(), 100) << run.dump();
+  EXPECT_LT(processed, 100) << "serve kept up: the test proves nothing";
+  EXPECT_GE(processed, 5);
+  EXPECT_EQ(run["dropped_queue_full"].get<int>(), 100 - processed) << run.dump();  // every drop counted
+  // A frame waits for at most the frame before it in each stage.
+  const nlohmann::json& latency = run["latency_ms"];
+  const double frontend_max = latency["frontend"]["max_ms"].get<double>();
+  const double backend_max = latency["backend"]["max_ms"].get<double>();
+  const double slack_ms = 100.0;  // thread wake-ups and the publisher's bursts on a loaded machine
+  EXPECT_LE(latency["frontend_wait"]["max_ms"].get<double>(), frontend_max + backend_max + slack_ms) << latency.dump();
+  EXPECT_LE(latency["backend_wait"]["max_ms"].get<double>(), 2.0 * backend_max + slack_ms) << latency.dump();
+  // The dropped frames' odometry went on into the next frame's: the camera stays on the reference path.
+  std::vector<int64_t> t_ns;
+  const std::vector<SE3> estimated = ReadTumTrajectory(out + "/default/camera_ours.tum", &t_ns);
+  ASSERT_EQ(static_cast<int>(estimated.size()), processed);
+  std::map<int64_t, Vec3> reference;
+  for (const FrameEstimate& e : test::ServeReference(dataset)) reference[e.t_ns] = e.T_world_camera.translation();
+  double worst_m = 0.0;
+  for (size_t k = 0; k < estimated.size(); ++k) {
+    ASSERT_TRUE(reference.count(t_ns[k])) << t_ns[k];
+    worst_m = std::max(worst_m, (estimated[k].translation() - reference[t_ns[k]]).norm());
+  }
+  EXPECT_LT(worst_m, 1.0);
 }
 
 TEST(ServeLoopback, SigkillLeavesEveryFrameThatLeftTheWindowOnDisk) {

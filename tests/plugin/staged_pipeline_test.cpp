@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
 #include <mutex>
 
 #include <opencv2/imgproc.hpp>
@@ -101,6 +102,36 @@ TEST(StagedPipeline, EqualsTheSequentialPipelineAndCarriesARejectedFramesOdometr
                   .norm(),
               0.0);
   EXPECT_FALSE(staged.push(data.read(0)));  // finished
+}
+
+TEST(StagedPipeline, PushNewestDropsWaitingFramesAndCarriesTheirOdometryOn) {
+  const std::string dir = test::RenderedCity("staged_city", 12);
+  const RunConfig config = RunDefaults();
+  const ImageDataset data(dir, config.dataset);
+  VehiclePipeline sequential(config, data.camera(), data.frameRateHz());
+  std::map<int64_t, Vec3> reference;
+  for (int k = 0; k < data.size(); ++k) {
+    const FrameEstimate e = sequential.process(data.read(k));
+    reference[e.t_ns] = e.T_world_camera.translation();
+  }
+  std::mutex mutex;
+  std::vector<FrameEstimate> estimates;
+  StagedPipelineCallbacks callbacks;
+  callbacks.on_estimate = [&](const FrameEstimate& e, const FrameMeasurement&, const FrameTiming&) {
+    std::lock_guard<std::mutex> lock(mutex);
+    estimates.push_back(e);
+  };
+  StagedPipeline staged(config, data.camera(), data.frameRateHz(), 1, callbacks);
+  std::vector<ImageFrame> frames;
+  for (int k = 0; k < data.size(); ++k) frames.push_back(data.read(k));
+  for (ImageFrame& f : frames) ASSERT_TRUE(staged.pushNewest(f));  // far faster than the front-end
+  staged.finish();
+  ASSERT_GE(estimates.size(), 2u);
+  EXPECT_GT(staged.framesDropped(), 0u);
+  EXPECT_EQ(estimates.size() + staged.framesDropped(), frames.size());
+  EXPECT_EQ(estimates.back().t_ns, frames.back().t_ns);  // the newest frame is never the one dropped
+  for (const FrameEstimate& e : estimates)  // the odometry of the dropped frames reached the next ones
+    EXPECT_LT((e.T_world_camera.translation() - reference.at(e.t_ns)).norm(), 0.5) << e.t_ns;
 }
 
 TEST(StagedPipeline, ACameraWithoutASizeTakesItFromTheFirstFrameThatFitsItsIntrinsics) {

@@ -12,7 +12,7 @@ namespace dslam::test {
 enum class DdsTestSlot { kLoopbackEqual = 0, kLoopbackBadSamples, kLoopbackRestart, kLoopbackTwoProcesses, kSecurity,
                          kLoopbackSigkill, kServeNodeErrors, kPublishStop, kLoopbackSecondSignal, kLoopbackSamplesLost,
                          kCycloneListener, kCycloneCameraDriver, kCycloneImageReader, kRosGraphJazzy, kRosGraphHumble,
-                         kSlots };
+                         kLoopbackNewestWins, kSlots };
 static_assert(static_cast<int>(DdsTestSlot::kSlots) <= 16, "16 domain ids per build tree");
 
 // The slot's domain id: the base (0, 16, ..., 208; domain ids go up to 232) comes from the test binary's
