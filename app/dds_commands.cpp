@@ -1,9 +1,11 @@
 #include "app/dds_commands.h"
 
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <map>
 #include <csignal>
+#include <filesystem>
 #include <thread>
 
 #include "data/kitti_tracking.h"
@@ -48,6 +50,15 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
       throw std::invalid_argument("masks.source " + ToString(config.masks.source) +
                                   " is not supported by serve: it takes instance masks from its mask topic");
     if (options.calib_path.empty()) throw std::invalid_argument("--calib FILE is required (KITTI calib.txt format)");
+    // The same ranges as the command line's, for callers that build the options themselves.
+    if (!std::isfinite(options.frame_rate_hz) || options.frame_rate_hz < 1e-3 || options.frame_rate_hz > 1000.0)
+      throw std::invalid_argument("--rate must be between 0.001 and 1000 Hz, got " + std::to_string(options.frame_rate_hz));
+    if (!std::isfinite(options.status_every_s) || options.status_every_s < 0.0 || options.status_every_s > 86400.0)
+      throw std::invalid_argument("--status-every must be between 0 and 86400 s, got " + std::to_string(options.status_every_s));
+    if (!std::isfinite(options.max_run_s) || options.max_run_s < 0.0 || options.max_run_s > 1e9)
+      throw std::invalid_argument("--max-run must be between 0 and 1e9 s, got " + std::to_string(options.max_run_s));
+    if (std::error_code ec; std::filesystem::exists(options.out_dir, ec) && !std::filesystem::is_directory(options.out_dir, ec))
+      throw std::invalid_argument("--out " + options.out_dir + " is a file, not a folder to write results into");
     const KittiCalibration calib = ReadKittiCalibration(options.calib_path);
     const auto& P = calib.P[2](0, 0) > 0.0 ? calib.P[2] : calib.P[0];
     serve.camera.fx = P(0, 0), serve.camera.fy = P(1, 1), serve.camera.cx = P(0, 2), serve.camera.cy = P(1, 2);

@@ -1,6 +1,7 @@
 // dslam: the command-line tool. Each subcommand lives in its own file; this only parses arguments.
 #include <CLI/CLI.hpp>
 
+#include <filesystem>
 #include <iostream>
 
 #include "app/dds_commands.h"
@@ -14,6 +15,16 @@
 #include "simulation/scenarios.h"
 
 namespace {
+// An output folder: a path that is not an existing file (a folder that exists, or one to be made).
+const CLI::Validator kOutputDir(
+    [](std::string& path) {
+      std::error_code ec;
+      if (std::filesystem::exists(path, ec) && !std::filesystem::is_directory(path, ec))
+        return path + " is a file, not a folder to write results into";
+      return std::string();
+    },
+    "DIR");
+
 void AddFigureFlags(CLI::App* cmd, dslam::CommonRunOptions* options) {
   cmd->add_flag("--no-figures", options->no_figures, "Do not draw the figures and report.html at the end");
   cmd->add_option("--figure-scale", options->figure_scale, "Scale of those figures (see dslam figures --scale)")
@@ -37,13 +48,15 @@ int main(int argc, char** argv) {
                       "Object motion model: per-step, constant or smoothed (default: constant for paper, smoothed "
                       "for city and crossing)");
   sim_cmd->add_option("--schedule", sim.schedule, "Solver schedule: batch (default) or window:W with W >= 2");
-  sim_cmd->add_option("--sigma", sim.sigma_m, "Point measurement noise sigma per axis, metres")->capture_default_str();
+  sim_cmd->add_option("--sigma", sim.sigma_m, "Point measurement noise sigma per axis, metres (0.0001 to 10)")
+      ->check(CLI::Range(1e-4, 10.0))
+      ->capture_default_str();
   sim_cmd->add_option("--frames", sim.frames, "Number of frames (0: the scenario's default, 100 / 200; at most 100000)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(CLI::Range(0, 100000))
       ->capture_default_str();
   sim_cmd->add_option("--config", sim.config_path, "YAML run configuration (see config/default.yaml)")
       ->check(CLI::ExistingFile);
-  sim_cmd->add_option("--out", sim.out_dir, "Output directory")->capture_default_str();
+  sim_cmd->add_option("--out", sim.out_dir, "Output directory")->check(kOutputDir)->capture_default_str();
   sim_cmd->add_flag("--quiet", sim.quiet, "Print only errors");
   AddFigureFlags(sim_cmd, &sim);
 
@@ -56,7 +69,8 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::ExistingDirectory);
   replay_cmd->add_option("--seq", replay.sequence, "Sequence number, e.g. 0000")->required();
-  replay_cmd->add_option("--sigma", replay.sigma_m, "Point noise sigma per axis, metres (0.02, 0.04, 0.06)")
+  replay_cmd->add_option("--sigma", replay.sigma_m, "Point noise sigma per axis, metres (0.02, 0.04, 0.06; 0.0001 to 10)")
+      ->check(CLI::Range(1e-4, 10.0))
       ->capture_default_str();
   replay_cmd->add_option("--seed", replay.seed, "Random seed; runs are deterministic")->capture_default_str();
   replay_cmd->add_option("--mode", replay.mode,
@@ -67,7 +81,7 @@ int main(int argc, char** argv) {
                          "Object category the metrics cover (VEHICLE, PEDESTRIAN, BICYCLE; empty = all)")
       ->capture_default_str();
   replay_cmd->add_option("--config", replay.config_path, "YAML run configuration")->check(CLI::ExistingFile);
-  replay_cmd->add_option("--out", replay.out_dir, "Output directory")->capture_default_str();
+  replay_cmd->add_option("--out", replay.out_dir, "Output directory")->check(kOutputDir)->capture_default_str();
   replay_cmd->add_flag("--quiet", replay.quiet, "Print only errors");
   AddFigureFlags(replay_cmd, &replay);
 
@@ -101,7 +115,7 @@ int main(int argc, char** argv) {
   lidar_check_cmd->add_option("--frames", lidar_check.frames, "Scans to use (0: all)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  lidar_check_cmd->add_option("--out", lidar_check.out_dir, "Output directory")->capture_default_str();
+  lidar_check_cmd->add_option("--out", lidar_check.out_dir, "Output directory")->check(kOutputDir)->capture_default_str();
   lidar_check_cmd->add_flag("--quiet", lidar_check.quiet, "Print only the results and errors");
 
   dslam::RenderSceneOptions render;
@@ -117,21 +131,27 @@ int main(int argc, char** argv) {
       ->excludes(kitti_opt)
       ->check(CLI::IsMember({"city", "crossing"}));
   render_cmd->add_option("--frames", render.frames, "Frames to render (0: all; a scenario's default length)")
+      ->check(CLI::Range(0, 100000))
       ->capture_default_str();
-  render_cmd->add_option("--scale", render.scale, "Image size relative to 1242x375, intrinsics scaled alike")
+  render_cmd->add_option("--scale", render.scale, "Image size relative to 1242x375, intrinsics scaled alike (0.05 to 4)")
+      ->check(CLI::Range(0.05, 4.0))
       ->capture_default_str();
-  render_cmd->add_option("--image-noise", render.image_noise, "Colour noise sigma, grey levels (0 to 255)")->capture_default_str();
+  render_cmd->add_option("--image-noise", render.image_noise, "Colour noise sigma, grey levels (0 to 255)")
+      ->check(CLI::Range(0.0, 255.0))
+      ->capture_default_str();
   render_cmd->add_option("--depth-noise", render.depth_noise_m, "Depth noise sigma at zero depth, metres (0 to 10)")
+      ->check(CLI::Range(0.0, 10.0))
       ->capture_default_str();
   render_cmd->add_option("--depth-noise-per-m2", render.depth_noise_per_m2,
                          "Depth noise sigma added per square metre of depth (0 to 1)")
+      ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   render_cmd->add_option("--seed", render.seed, "Seed of the noise")->capture_default_str();
   render_cmd->add_flag("--stereo", render.stereo,
                        "Also render the right camera (image_1/, KITTI's 0.54 m baseline, P3 in calib.txt)");
   render_cmd->add_flag("--exact-flow", render.exact_flow,
                        "Also write the exact forward flow (flow/NNNNNN.flo, ~3.7 MB a 1242x375 frame)");
-  render_cmd->add_option("--out", render.out_dir, "Output directory")->capture_default_str();
+  render_cmd->add_option("--out", render.out_dir, "Output directory")->check(kOutputDir)->capture_default_str();
   render_cmd->add_flag("--quiet", render.quiet, "Print only errors and the summary");
 
   dslam::RunCommandOptions run;
@@ -153,7 +173,8 @@ int main(int argc, char** argv) {
                       std::string("Object motion model: per-step, constant or smoothed (default ") +
                           dslam::kRunDefaultMode + ")");
   run_cmd->add_option("--schedule", run.schedule, "Solver schedule: window:W (default window:10) or batch");
-  run_cmd->add_option("--sigma", run.sigma_m, "Point measurement sigma per axis assumed by the back-end, metres")
+  run_cmd->add_option("--sigma", run.sigma_m, "Point measurement sigma per axis assumed by the back-end, metres (0.0001 to 10)")
+      ->check(CLI::Range(1e-4, 10.0))
       ->capture_default_str();
   run_cmd->add_option("--category", run.category, "Object category the metrics cover (empty = all)")
       ->capture_default_str();
@@ -163,7 +184,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   run_cmd->add_option("--config", run.config_path, "YAML run configuration (see config/default.yaml)")
       ->check(CLI::ExistingFile);
-  run_cmd->add_option("--out", run.out_dir, "Output directory")->capture_default_str();
+  run_cmd->add_option("--out", run.out_dir, "Output directory")->check(kOutputDir)->capture_default_str();
   run_cmd->add_flag("--quiet", run.quiet, "Print only errors");
   AddFigureFlags(run_cmd, &run);
 
@@ -181,7 +202,7 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   study_cmd->add_option("--seed", study.seed, "Seed of the depth noise and of the degraded segmenter")
       ->capture_default_str();
-  study_cmd->add_option("--out", study.out_dir, "Output directory")->capture_default_str();
+  study_cmd->add_option("--out", study.out_dir, "Output directory")->check(kOutputDir)->capture_default_str();
   study_cmd->add_flag("--quiet", study.quiet, "Print only errors and the summary");
   AddFigureFlags(study_cmd, &study);
 
@@ -202,9 +223,13 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile)
       ->capture_default_str();
   serve_cmd->add_option("--config", serve.config_path, "YAML run configuration")->check(CLI::ExistingFile);
-  serve_cmd->add_option("--out", serve.out_dir, "Results directory (one folder per vehicle)")->capture_default_str();
+  serve_cmd->add_option("--out", serve.out_dir, "Results directory (one folder per vehicle)")
+      ->check(kOutputDir)
+      ->capture_default_str();
   serve_cmd->add_flag("--no-odometry", serve.no_odometry, "Do not wait for odometry with every frame");
-  serve_cmd->add_option("--rate", serve.frame_rate_hz, "Sensor frame rate (Hz), for speeds")->capture_default_str();
+  serve_cmd->add_option("--rate", serve.frame_rate_hz, "Sensor frame rate (Hz), for speeds (0.001 to 1000)")
+      ->check(CLI::Range(0.001, 1000.0))
+      ->capture_default_str();
   serve_cmd->add_option("--timeout-ms", serve.timeout_ms,
                         "An incomplete frame set this far (stamps) behind the newest one is dropped")
       ->check(CLI::PositiveNumber)
@@ -224,9 +249,11 @@ int main(int argc, char** argv) {
   serve_cmd->add_flag("--every-frame", serve.every_frame,
                       "Estimate every assembled frame however late (replays); by default, when serve falls behind, "
                       "the newest frame wins and older waiting frames are dropped (counted, their odometry carried on)");
-  serve_cmd->add_option("--status-every", serve.status_every_s, "Console status period, s (0: never)")
+  serve_cmd->add_option("--status-every", serve.status_every_s, "Console status period, s (0: never; at most 86400)")
+      ->check(CLI::Range(0.0, 86400.0))
       ->capture_default_str();
-  serve_cmd->add_option("--max-run", serve.max_run_s, "Stop by itself after this many seconds (0: never)")
+  serve_cmd->add_option("--max-run", serve.max_run_s, "Stop by itself after this many seconds (0: never; at most 1e9)")
+      ->check(CLI::Range(0.0, 1e9))
       ->capture_default_str();
   serve_cmd->add_option("--node-name", serve.node_name,
                         "ROS 2 node name shown by `ros2 node list`, one per vehicle in its namespace")
@@ -243,7 +270,9 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::ExistingDirectory);
   publish_cmd->add_option("--seq", publish.sequence, "KITTI tracking layout: sequence number");
-  publish_cmd->add_option("--rate", publish.publish.rate_hz, "Frames per second")->capture_default_str();
+  publish_cmd->add_option("--rate", publish.publish.rate_hz, "Frames per second (0.001 to 1000)")
+      ->check(CLI::Range(0.001, 1000.0))
+      ->capture_default_str();
   publish_cmd->add_option("--vehicle", publish.publish.vehicle, "Vehicle topic namespace (default: none)");
   publish_cmd->add_option("--domain", publish.publish.domain_id, "DDS domain id (0-232)")
       ->check(CLI::Range(0, 232))
@@ -252,10 +281,13 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile)
       ->capture_default_str();
   publish_cmd->add_option("--start-frame", publish.publish.start_frame, "First frame (resume a replay)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   publish_cmd->add_option("--frames", publish.publish.frames, "Frames to publish (0: to the end)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  publish_cmd->add_option("--wait", publish.publish.wait_for_reader_s, "Seconds to wait for a reader first")
+  publish_cmd->add_option("--wait", publish.publish.wait_for_reader_s, "Seconds to wait for a reader first (0 to 3600)")
+      ->check(CLI::Range(0.0, 3600.0))
       ->capture_default_str();
 
   // An unknown command is named (CLI11 would only say that one is required).

@@ -16,6 +16,7 @@ int PublishDataset(const ImageDataset& dataset, const PublishOptions& options, s
     throw std::invalid_argument("--rate must be between 0.001 and 1000 Hz, got " + std::to_string(options.rate_hz));
   if (!std::isfinite(options.wait_for_reader_s) || options.wait_for_reader_s < 0.0 || options.wait_for_reader_s > 3600.0)
     throw std::invalid_argument("--wait must be between 0 and 3600 s, got " + std::to_string(options.wait_for_reader_s));
+  if (options.frames < 0) throw std::invalid_argument("--frames must be 0 (to the end) or more, got " + std::to_string(options.frames));
   if (options.start_frame < 0 || options.start_frame >= dataset.size())
     throw std::invalid_argument("--start-frame " + std::to_string(options.start_frame) + " is outside the " +
                                 std::to_string(dataset.size()) + " frames");

@@ -2,6 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "support/child_process.h"
 #include "support/temp_paths.h"
@@ -38,6 +41,43 @@ TEST(Cli, BadCommandsAndOptionsExitWithStatus2AndSaySo) {
     EXPECT_EQ(o.status, 2) << domain << ": " << o.output;
     EXPECT_NE(o.output.find("--domain"), std::string::npos) << o.output;
   }
+  // Every option's range is checked when the command line is read: out-of-range values are bad input (2),
+  // never a run that does something else (publish --frames -3 published everything, serve --max-run -5
+  // never stopped, serve --rate 0 and --out FILE ended in status 4).
+  const std::string src = DSLAM_SOURCE_DIR, a_file = src + "/README.md";
+  const std::vector<std::pair<std::vector<std::string>, std::string>> table = {
+      {{"serve", "--calib", calib, "--rate", "0"}, "--rate"},
+      {{"serve", "--calib", calib, "--rate", "5000"}, "--rate"},
+      {{"serve", "--calib", calib, "--max-run", "-5"}, "--max-run"},
+      {{"serve", "--calib", calib, "--status-every", "-1"}, "--status-every"},
+      {{"serve", "--calib", calib, "--out", a_file}, "is a file, not a folder"},
+      {{"serve", "--calib", calib, "--max-pending", "0"}, "--max-pending"},
+      {{"publish", "--dataset", src, "--frames", "-3"}, "--frames"},
+      {{"publish", "--dataset", src, "--start-frame", "-1"}, "--start-frame"},
+      {{"publish", "--dataset", src, "--rate", "0"}, "--rate"},
+      {{"publish", "--dataset", src, "--wait", "-2"}, "--wait"},
+      {{"run", "--dataset", src, "--frames", "-1"}, "--frames"},
+      {{"run", "--dataset", src, "--sigma", "0"}, "--sigma"},
+      {{"run", "--dataset", src, "--out", a_file}, "is a file, not a folder"},
+      {{"sim", "--frames", "200000"}, "--frames"},
+      {{"sim", "--sigma", "-0.1"}, "--sigma"},
+      {{"sim", "--out", a_file}, "is a file, not a folder"},
+      {{"kitti-replay", "--data", src, "--seq", "0000", "--sigma", "0"}, "--sigma"},
+      {{"render-scene", "--scenario", "city", "--scale", "0"}, "--scale"},
+      {{"render-scene", "--scenario", "city", "--image-noise", "300"}, "--image-noise"},
+      {{"render-scene", "--scenario", "city", "--frames", "-4"}, "--frames"},
+      {{"figures", src, "--width", "10"}, "--width"},
+      {{"lidar-check", "--dataset", src, "--frames", "-1"}, "--frames"},
+      {{"study", "--dataset", src, "--frames", "-1"}, "--frames"},
+  };
+  for (const auto& [args, named] : table) {
+    o = Dslam(args);
+    std::string line;
+    for (const std::string& a : args) line += a + " ";
+    EXPECT_EQ(o.status, 2) << line << ": " << o.output;
+    EXPECT_NE(o.output.find(named), std::string::npos) << line << ": " << o.output;
+  }
+
   o = Dslam({"sim", "--help"});
   EXPECT_EQ(o.status, 0) << o.output;
   EXPECT_NE(o.output.find("--scenario"), std::string::npos);

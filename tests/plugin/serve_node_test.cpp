@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <sstream>
 
@@ -78,6 +79,16 @@ TEST(ServeCommand, ExitsTwoOnBadOptionsAndFourWhenItsOutputFolderIsInUse) {
   ServeCommandOptions bad = options;
   bad.max_pending_mb = 1;
   EXPECT_EQ(RunServeCommand(bad, out, err), 2) << err.str();
+  // Ranges checked by the command itself too (for callers that build the options): 2, not 4 or a run.
+  for (auto spoil : std::vector<std::function<void(ServeCommandOptions&)>>{
+           [](ServeCommandOptions& o) { o.frame_rate_hz = 0.0; }, [](ServeCommandOptions& o) { o.max_run_s = -5.0; },
+           [](ServeCommandOptions& o) { o.status_every_s = -1.0; },
+           [&](ServeCommandOptions& o) { o.out_dir = dir + "/calib.txt"; }}) {
+    bad = options;
+    spoil(bad);
+    EXPECT_EQ(RunServeCommand(bad, out, err), 2) << err.str();
+  }
+  EXPECT_NE(err.str().find("is a file, not a folder"), std::string::npos) << err.str();
   bad = options;
   bad.ros_distro = "melodic";  // ROS 1: no graph topic to speak of
   EXPECT_EQ(RunServeCommand(bad, out, err), 2) << err.str();
