@@ -45,10 +45,6 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
   RunConfig config;
   try {
     config = ServeRunConfig(options);
-    // serve's masks come from its mask topic; masks made from a LiDAR topic are not served yet.
-    if (config.masks.source != MaskSourceKind::kDataset)
-      throw std::invalid_argument("masks.source " + ToString(config.masks.source) +
-                                  " is not supported by serve: it takes instance masks from its mask topic");
     if (options.calib_path.empty()) throw std::invalid_argument("--calib FILE is required (KITTI calib.txt format)");
     // The same ranges as the command line's, for callers that build the options themselves.
     if (!std::isfinite(options.frame_rate_hz) || options.frame_rate_hz < 1e-3 || options.frame_rate_hz > 1000.0)
@@ -63,6 +59,13 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
     const auto& P = calib.P[2](0, 0) > 0.0 ? calib.P[2] : calib.P[0];
     serve.camera.fx = P(0, 0), serve.camera.fy = P(1, 1), serve.camera.cx = P(0, 2), serve.camera.cy = P(1, 2);
     serve.camera.width = serve.camera.height = 0;  // from the first frame
+    // Masks from the LiDAR topic's scans (in the LiDAR's frame): the calibration must place the LiDAR.
+    if (config.masks.source == MaskSourceKind::kLidarClusters) {
+      if (!calib.has_T_cam_velo)
+        throw std::invalid_argument(options.calib_path + ": masks.source lidar_clusters needs Tr_velo_to_cam (the "
+                                    "LiDAR's pose in the camera) in the calibration");
+      serve.T_camera_lidar = calib.T_camera_lidar();
+    }
     serve.domain_id = options.domain_id;
     serve.profiles_file = options.profiles_file;
     if (!options.vehicles.empty()) serve.vehicles = options.vehicles;
@@ -170,7 +173,8 @@ int RunPublishCommand(const PublishCommandOptions& options, std::ostream& out, s
   try {
     if (const std::string bad = FindInvalidVehicleName(options.publish.vehicle); !bad.empty())
       throw std::invalid_argument(bad);
-    ImageDatasetOptions dataset_options;
+    ImageDatasetOptions dataset_options = options.config_path ? LoadRunConfig(*options.config_path).dataset
+                                                              : ImageDatasetOptions{};
     dataset_options.sequence = options.sequence;
     dataset_options.read_flow = false;  // flow is not sent
     const ImageDataset dataset(options.dataset_dir, dataset_options);

@@ -42,6 +42,9 @@ struct PublishCommandOptions {
   PublishCommandOptions() { publish.profiles_file = DSLAM_DEFAULT_DDS_PROFILES; }
   std::string dataset_dir;
   std::string sequence;
+  // The run configuration whose `dataset:` section reads the dataset (depth encoding, LiDAR fill radius,
+  // frame rate), so that what is published is what `dslam run` reads with the same file.
+  std::optional<std::string> config_path;
   PublishOptions publish;
 };
 

@@ -270,6 +270,10 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::ExistingDirectory);
   publish_cmd->add_option("--seq", publish.sequence, "KITTI tracking layout: sequence number");
+  publish_cmd->add_option("--config", publish.config_path,
+                          "YAML run configuration: its dataset section reads the dataset as dslam run does "
+                          "(depth encoding, LiDAR fill radius)")
+      ->check(CLI::ExistingFile);
   publish_cmd->add_option("--rate", publish.publish.rate_hz, "Frames per second (0.001 to 1000)")
       ->check(CLI::Range(0.001, 1000.0))
       ->capture_default_str();

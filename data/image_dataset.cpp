@@ -190,12 +190,8 @@ ImageDataset::ImageDataset(const std::string& dir, const ImageDatasetOptions& op
                                    ": missing Tr_velo_to_cam (LiDAR depth needs the Velodyne-to-camera transform)");
         depths_ = Matching(images_, root / "velodyne_points", ".bin", images_.size());
         depth_kind_ = DepthKind::kLidar;
-        Mat4 rect = Mat4::Identity();
-        rect.topLeftCorner<3, 3>() = calib->R_rect;
-        P_camera_lidar_ = calib->P[2] * rect * calib->T_cam_velo;
-        // P2 = K [I | t]: the metric transform into the left colour camera is K^-1 P2 R_rect T_cam_velo.
-        Eigen::Matrix3d K = calib->P[2].leftCols<3>();
-        T_camera_lidar_ = K.inverse() * P_camera_lidar_;
+        P_camera_lidar_ = calib->P_camera_lidar();
+        T_camera_lidar_ = calib->T_camera_lidar();
       } else if (fs::is_directory(root / "image_03")) {
         rights_ = Matching(images_, root / "image_03", ".png", images_.size());
         depth_kind_ = DepthKind::kStereo;
@@ -249,12 +245,7 @@ cv::Mat ImageDataset::readDepth(int k, const cv::Mat& left, ImageFrame* frame) c
     }
     case DepthKind::kLidar: {
       const std::vector<Eigen::Vector4f> scan = ReadVelodyneScan(depths_[k]);
-      const Eigen::Matrix3f R = T_camera_lidar_.leftCols<3>().cast<float>();
-      const Eigen::Vector3f t = T_camera_lidar_.col(3).cast<float>();
-      frame->lidar_points_camera.resize(scan.size());
-      for (size_t i = 0; i < scan.size(); ++i) frame->lidar_points_camera[i] = R * scan[i].head<3>() + t;
-      frame->lidar_origin_camera = t;
-      frame->lidar_up_camera = R.col(2);
+      SetLidarScan(scan, T_camera_lidar_, frame);
       return FillSparseDepth(DepthFromLidar(scan, P_camera_lidar_, left.cols, left.rows), options_.lidar_fill_radius_px);
     }
   }
@@ -312,6 +303,12 @@ ImageFrame ImageDataset::read(int k) const {
   frame.odometry = odometryAt(k);
   if (transform_) transform_(frame);
   return frame;
+}
+
+std::vector<Eigen::Vector4f> ImageDataset::readLidarScan(int k) const {
+  if (k < 0 || k >= size()) throw std::out_of_range("frame " + std::to_string(k) + " is outside the dataset");
+  if (depth_kind_ != DepthKind::kLidar) throw std::logic_error(dir_ + " has no LiDAR scans");
+  return ReadVelodyneScan(depths_[k]);
 }
 
 std::optional<OdometryMeasurement> ImageDataset::odometryAt(int k) const {

@@ -4,6 +4,16 @@
 
 namespace dslam {
 
+void SetLidarScan(const std::vector<Eigen::Vector4f>& scan_lidar, const Eigen::Matrix<double, 3, 4>& T_camera_lidar,
+                  ImageFrame* frame) {
+  const Eigen::Matrix3f R = T_camera_lidar.leftCols<3>().cast<float>();
+  const Eigen::Vector3f t = T_camera_lidar.col(3).cast<float>();
+  frame->lidar_points_camera.resize(scan_lidar.size());
+  for (size_t i = 0; i < scan_lidar.size(); ++i) frame->lidar_points_camera[i] = R * scan_lidar[i].head<3>() + t;
+  frame->lidar_origin_camera = t;
+  frame->lidar_up_camera = R.col(2);
+}
+
 std::string FindInvalidImageFrame(const ImageFrame& frame) {
   const std::string where = "frame " + std::to_string(frame.frame_index) + ": ";
   if (frame.image.empty()) return where + "image is empty";

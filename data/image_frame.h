@@ -33,6 +33,13 @@ struct ImageFrame {
   FrameTiming timing;  // when it passed each stage so far (online pipelines fill it in)
 };
 
+// Sets the frame's LiDAR scan from one recorded in the LiDAR's frame ("x y z reflectance") and the metric
+// transform [R | t] from the LiDAR to this camera: the points, the LiDAR's centre and its up axis in the
+// camera frame. One computation for every source (a dataset reader, a LiDAR topic), so that all give the
+// same points.
+void SetLidarScan(const std::vector<Eigen::Vector4f>& scan_lidar, const Eigen::Matrix<double, 3, 4>& T_camera_lidar,
+                  ImageFrame* frame);
+
 // Empty when the frame is usable; otherwise a message saying what is wrong (missing image, unsupported
 // pixel type, sizes that differ between image, depth, mask and flow).
 std::string FindInvalidImageFrame(const ImageFrame& frame);

@@ -39,6 +39,17 @@ void ForEachRow(const std::string& path, size_t min_fields, size_t max_fields, R
 }
 }  // namespace
 
+Eigen::Matrix<double, 3, 4> KittiCalibration::P_camera_lidar() const {
+  Mat4 rect = Mat4::Identity();
+  rect.topLeftCorner<3, 3>() = R_rect;
+  return P[2] * rect * T_cam_velo;
+}
+
+Eigen::Matrix<double, 3, 4> KittiCalibration::T_camera_lidar() const {
+  const Eigen::Matrix3d K = P[2].leftCols<3>();
+  return K.inverse() * P_camera_lidar();
+}
+
 Mat4 KittiCalibration::T_rect_imu() const {
   Mat4 R = Mat4::Identity();
   R.topLeftCorner<3, 3>() = R_rect;

@@ -23,6 +23,10 @@ struct KittiCalibration {
   double cy() const { return P[2](1, 2); }
   // IMU -> rectified reference camera: R_rect * Tr_velo_to_cam * Tr_imu_to_velo.
   Mat4 T_rect_imu() const;
+  // Velodyne -> pixels of the left colour camera: P2 * R_rect * Tr_velo_to_cam.
+  Eigen::Matrix<double, 3, 4> P_camera_lidar() const;
+  // Velodyne -> the left colour camera, metric [R | t]: K^-1 P2 R_rect Tr_velo_to_cam (P2 = K [I | t]).
+  Eigen::Matrix<double, 3, 4> T_camera_lidar() const;
 };
 KittiCalibration ReadKittiCalibration(const std::string& path);
 

@@ -20,7 +20,7 @@ int PublishDataset(const ImageDataset& dataset, const PublishOptions& options, s
   if (options.start_frame < 0 || options.start_frame >= dataset.size())
     throw std::invalid_argument("--start-frame " + std::to_string(options.start_frame) + " is outside the " +
                                 std::to_string(dataset.size()) + " frames");
-  SensorPublisher sensors(options.domain_id, options.profiles_file, options.vehicle);
+  SensorPublisher sensors(options.domain_id, options.profiles_file, options.vehicle, dataset.hasLidar());
   if (!sensors.waitForReaders(options.wait_for_reader_s, stop) && !(stop && *stop))
     log << "warning: no reader matched every input topic of vehicle '" << options.vehicle << "' within "
         << options.wait_for_reader_s << " s (--wait); publishing anyway, samples nobody reads are lost" << std::endl;
@@ -43,7 +43,9 @@ int PublishDataset(const ImageDataset& dataset, const PublishOptions& options, s
       const double dt_s = static_cast<double>(frame.t_ns - dataset.stampNs(k - 1)) * 1e-9;
       if (dt_s > 0.0) twist_sigma_per_s = frame.odometry->sigma / dt_s;
     }
-    sensors.publish(frame, T_odom_camera, twist_sigma_per_s, dataset.hasOdometry());
+    std::vector<Eigen::Vector4f> scan;
+    if (dataset.hasLidar()) scan = dataset.readLidarScan(k);  // as the LiDAR recorded it, in its own frame
+    sensors.publish(frame, T_odom_camera, twist_sigma_per_s, dataset.hasOdometry(), dataset.hasLidar() ? &scan : nullptr);
     ++published;
     if ((k + 1) % 10 == 0 || k + 1 == end) log << "  published frame " << k + 1 << "/" << end << std::endl;
     next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period);

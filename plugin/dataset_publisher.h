@@ -1,7 +1,8 @@
 #pragma once
 // `dslam publish`: replays a recorded or rendered image sequence onto a vehicle's input topics as its
-// sensors would: colour (bgr8), depth (32FC1 metres), instance mask (16UC1) and odometry (the pose
-// accumulated from the dataset's increments) with the dataset's stamps, at a fixed rate.
+// sensors would: colour (bgr8), depth (32FC1 metres), instance mask (16UC1), odometry (the pose
+// accumulated from the dataset's increments) and, from a dataset with LiDAR scans, the scans
+// (PointCloud2 in the LiDAR's frame, rt/<vehicle>/lidar/points), with the dataset's stamps, at a fixed rate.
 
 #include <atomic>
 #include <ostream>

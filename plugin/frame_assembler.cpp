@@ -1,6 +1,5 @@
 #include "plugin/frame_assembler.h"
 
-#include <chrono>
 #include <stdexcept>
 
 namespace dslam {
@@ -65,7 +64,10 @@ void FrameAssembler::addMask(int64_t t_ns, const cv::Mat& instance_ids, const Pa
 
 void FrameAssembler::boundPendingBytes() {
   auto bytes = [](const cv::Mat& m) { return m.empty() ? size_t{0} : m.total() * m.elemSize(); };
-  auto set_bytes = [&](const Pending& p) { return bytes(p.colour) + bytes(p.depth) + bytes(p.mask); };
+  auto set_bytes = [&](const Pending& p) {
+    return bytes(p.colour) + bytes(p.depth) + bytes(p.mask) +
+           (p.lidar ? p.lidar->points_camera.size() * sizeof(Eigen::Vector3f) : size_t{0});
+  };
   size_t total = 0;
   for (const auto& [t, p] : pending_) total += set_bytes(p);
   // The oldest sets go first; the newest always stays (one set is what a frame needs).
@@ -75,6 +77,10 @@ void FrameAssembler::boundPendingBytes() {
     ++counters_.dropped_queue_full;
   }
 }
+void FrameAssembler::addLidar(int64_t t_ns, LidarPart scan, const PartArrival& arrival) {
+  if (Pending* p = slot(t_ns, "LiDAR scan", arrival)) p->lidar = std::move(scan), boundPendingBytes();
+}
+
 void FrameAssembler::addOdometry(int64_t t_ns, const StampedPose& pose, const PartArrival& arrival) {
   if (!pose.T_odom_camera.translation().allFinite() || !pose.T_odom_camera.rotation().coeffs().allFinite() ||
       (pose.twist_sigma_per_s && (!pose.twist_sigma_per_s->allFinite() || (pose.twist_sigma_per_s->array() <= 0.0).any()))) {
@@ -87,7 +93,7 @@ void FrameAssembler::addOdometry(int64_t t_ns, const StampedPose& pose, const Pa
 
 bool FrameAssembler::complete(const Pending& p) const {
   return !p.colour.empty() && !p.depth.empty() && (!params_.expect_mask || !p.mask.empty()) &&
-         (!params_.expect_odometry || p.pose.has_value());
+         (!params_.expect_lidar || p.lidar.has_value()) && (!params_.expect_odometry || p.pose.has_value());
 }
 
 std::vector<ImageFrame> FrameAssembler::takeReady() {
@@ -110,6 +116,11 @@ std::vector<ImageFrame> FrameAssembler::takeReady() {
     frame.depth_m = it->second.depth;
     frame.instance_ids = it->second.mask;
     frame.timing = it->second.timing;
+    if (it->second.lidar) {
+      frame.lidar_points_camera = std::move(it->second.lidar->points_camera);
+      frame.lidar_origin_camera = it->second.lidar->origin_camera;
+      frame.lidar_up_camera = it->second.lidar->up_camera;
+    }
     frame.timing.assembled_ns = wall_clock_ns_();
     if (it->second.pose) {
       if (last_released_pose_) {

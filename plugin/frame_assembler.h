@@ -1,8 +1,8 @@
 #pragma once
 // Assembles the per-frame inputs that arrive on separate topics (colour, depth, instance mask,
 // odometry) into one ImageFrame, by their header stamp. Nothing here blocks or grows without bound:
-//  - a set is complete when it has colour, depth, a mask (when masks are expected) and odometry (when
-//    odometry is expected); complete sets are released in stamp order;
+//  - a set is complete when it has colour, depth, a mask (when masks are expected), a LiDAR scan (when
+//    scans are expected) and odometry (when odometry is expected); complete sets are released in stamp order;
 //  - a set older than `timeout_ns` behind the newest stamp seen is dropped as incomplete;
 //  - when no part at all has arrived for `silence_timeout_ns` of wall time (the stream stopped, so no
 //    newer stamp will come), the incomplete sets still waiting are dropped too;
@@ -25,6 +25,7 @@ namespace dslam {
 struct AssemblerParams {
   bool expect_mask = true;
   bool expect_odometry = false;
+  bool expect_lidar = false;  // masks made from the LiDAR: a scan instead of a mask
   int64_t timeout_ns = 500'000'000;  // 0.5 s: five frames at 10 Hz
   // Longer than a sensor's gap between frames, so that only a stopped stream triggers it.
   int64_t silence_timeout_ns = 2'000'000'000;
@@ -45,6 +46,13 @@ struct AssemblerCounters {
   uint64_t rejected_invalid = 0;
   uint64_t samples_lost = 0;  // not the assembler's: what serve's DDS readers reported lost (SAMPLE_LOST)
   std::string last_rejection;
+};
+
+// A LiDAR scan in the camera's frame (ImageFrame's lidar_* fields; see SetLidarScan).
+struct LidarPart {
+  std::vector<Eigen::Vector3f> points_camera;
+  Eigen::Vector3f origin_camera = Eigen::Vector3f::Zero();
+  Eigen::Vector3f up_camera = Eigen::Vector3f(0.0f, -1.0f, 0.0f);
 };
 
 // A vehicle pose at a stamp (odometry input: the pose of the vehicle's camera in its odometry frame).
@@ -76,6 +84,7 @@ class FrameAssembler {
   void addDepth(int64_t t_ns, const cv::Mat& depth_m, const PartArrival& arrival = {});
   void addMask(int64_t t_ns, const cv::Mat& instance_ids, const PartArrival& arrival = {});
   void addOdometry(int64_t t_ns, const StampedPose& pose, const PartArrival& arrival = {});
+  void addLidar(int64_t t_ns, LidarPart scan, const PartArrival& arrival = {});
   // Counts a sample that could not be decoded (the reason names the topic and the problem).
   void reject(const std::string& reason);
 
@@ -90,6 +99,7 @@ class FrameAssembler {
   struct Pending {
     cv::Mat colour, depth, mask;
     std::optional<StampedPose> pose;
+    std::optional<LidarPart> lidar;
     FrameTiming timing;  // received_ns: the first part's arrival; decode_ms summed over the parts
   };
   Pending* slot(int64_t t_ns, const char* what, const PartArrival& arrival);

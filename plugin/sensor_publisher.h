@@ -1,6 +1,7 @@
 #pragma once
-// A vehicle's sensors on DDS: writers of colour (bgr8), depth (32FC1), instance mask (16UC1) and
-// odometry (the camera pose in the odometry frame) under the vehicle's topic namespace. Used by
+// A vehicle's sensors on DDS: writers of colour (bgr8), depth (32FC1), instance mask (16UC1), odometry
+// (the camera pose in the odometry frame) and, for a vehicle with a LiDAR, its scans (PointCloud2 in the
+// LiDAR's frame) under the vehicle's topic namespace. Used by
 // `dslam publish` and the latency benchmark; no Fast DDS type appears in this header.
 
 #include <atomic>
@@ -15,7 +16,7 @@ namespace dslam {
 class SensorPublisher {
  public:
   // Throws std::runtime_error when the participant or a writer cannot be created.
-  SensorPublisher(int domain_id, const std::string& profiles_file, const std::string& vehicle);
+  SensorPublisher(int domain_id, const std::string& profiles_file, const std::string& vehicle, bool with_lidar = false);
   ~SensorPublisher();
   SensorPublisher(const SensorPublisher&) = delete;
   SensorPublisher& operator=(const SensorPublisher&) = delete;
@@ -25,7 +26,10 @@ class SensorPublisher {
   // The frame's images with its stamp; the odometry pose too when `with_odometry`, with the odometry's
   // velocity uncertainty (per second) in the twist covariance's diagonal, as a wheel-odometry driver
   // fills it (zero: none).
-  void publish(const ImageFrame& frame, const SE3& T_odom_camera, const Vec6& twist_sigma_per_s, bool with_odometry);
+  // `scan_lidar`: the frame's LiDAR scan as recorded ("x y z intensity" in the LiDAR's frame), published
+  // when the publisher was made with_lidar.
+  void publish(const ImageFrame& frame, const SE3& T_odom_camera, const Vec6& twist_sigma_per_s, bool with_odometry,
+               const std::vector<Eigen::Vector4f>* scan_lidar = nullptr);
   // Lets reliable writers deliver what is queued: returns once every reliable reader has acknowledged
   // it, at most 10 s (a reader that discovers this writer late asks for it at the next heartbeat).
   void flush();

@@ -20,13 +20,16 @@
 #include "plugin/dds_session.h"
 #include "plugin/image_message.h"
 #include "plugin/object_markers.h"
+#include "plugin/point_cloud_message.h"
 #include "plugin/ros_distro.h"
 #include "plugin/ros_graph.h"
 #include "plugin/topics.h"
 #include "pipeline/bounded_queue.h"
+#include "pipeline/mask_source.h"
 #include "pipeline/stage_latency.h"
 #include "pipeline/staged_pipeline.h"
 #include "sensor_msgs_ImagePubSubTypes.h"
+#include "sensor_msgs_PointCloud2PubSubTypes.h"
 #include "visualization_msgs_MarkerArrayPubSubTypes.h"
 
 namespace dslam {
@@ -77,6 +80,7 @@ class Vehicle {
   Vehicle(DdsSession& session, const std::string& name, const ServeOptions& options, const RunConfig& config)
       : name_(name),
         options_(options),
+        masks_(config.masks),
         assembler_(options.assembler),
         inbox_(kInboxSamplesPerFrame * static_cast<size_t>(options.assembler.max_pending)),
         dir_lock_(ResultDir(options, name)),
@@ -84,6 +88,7 @@ class Vehicle {
         colour_listener_(this, ImageRole::kColour),
         depth_listener_(this, ImageRole::kDepth),
         mask_listener_(this, ImageRole::kMask),
+        lidar_listener_(this),
         odometry_listener_(this) {
     const VehicleTopics topics = TopicsFor(name);
     odometry_writer_ = session.writer(topics.camera_odometry, new nav_msgs::msg::OdometryPubSubType(), "estimate_writer");
@@ -121,6 +126,9 @@ class Vehicle {
           session.reader(topics.mask, new sensor_msgs::msg::ImagePubSubType(), "sensor_reader", &mask_listener_));
       readers.push_back(
           session.reader(topics.odometry, new nav_msgs::msg::OdometryPubSubType(), "sensor_reader", &odometry_listener_));
+      if (masks_.source == MaskSourceKind::kLidarClusters)
+        readers.push_back(session.reader(topics.lidar, new sensor_msgs::msg::PointCloud2PubSubType(), "sensor_reader",
+                                         &lidar_listener_));
     } catch (...) {
       for (dds::DataReader* r : readers) r->set_listener(nullptr);  // they outlive this half-built vehicle
       throw;
@@ -225,9 +233,11 @@ class Vehicle {
 
   struct Sample {
     int64_t arrived_ns = 0;         // taken from the reader (steady clock)
-    std::optional<ImageRole> role;  // none: odometry
+    std::optional<ImageRole> role;  // none: odometry or a LiDAR scan
+    bool is_lidar = false;
     sensor_msgs::msg::Image image;
     nav_msgs::msg::Odometry odometry;
+    sensor_msgs::msg::PointCloud2 cloud;
   };
 
   class ImageListener : public dds::DataReaderListener {
@@ -249,6 +259,25 @@ class Vehicle {
    private:
     Vehicle* vehicle_;
     ImageRole role_;
+  };
+  class LidarListener : public dds::DataReaderListener {
+   public:
+    explicit LidarListener(Vehicle* v) : vehicle_(v) {}
+    void on_data_available(dds::DataReader* reader) override {
+      Sample sample;
+      sample.is_lidar = true;
+      dds::SampleInfo info;
+      while (reader->take_next_sample(&sample.cloud, &info) == ReturnCode_t::RETCODE_OK) {
+        sample.arrived_ns = SteadyClockNs();
+        if (info.valid_data) vehicle_->inbox_.pushDropOldest(sample);
+      }
+    }
+    void on_sample_lost(dds::DataReader*, const dds::SampleLostStatus& status) override {
+      vehicle_->samples_lost_ += static_cast<uint64_t>(std::max(0, status.total_count_change));
+    }
+
+   private:
+    Vehicle* vehicle_;
   };
   class OdometryListener : public dds::DataReaderListener {
    public:
@@ -289,6 +318,21 @@ class Vehicle {
         } else {
           assembler_.addMask(t_ns, decoded.image, arrival);
         }
+      } else if (sample->is_lidar) {
+        const int64_t decode_start_ns = SteadyClockNs();
+        DecodedPointCloud decoded = DecodePointCloud(sample->cloud);
+        LidarPart scan;
+        if (decoded.error.empty()) {
+          ImageFrame in_camera;  // the same transform as a dataset reader's (SetLidarScan)
+          SetLidarScan(decoded.points, *options_.T_camera_lidar, &in_camera);
+          scan = {std::move(in_camera.lidar_points_camera), in_camera.lidar_origin_camera, in_camera.lidar_up_camera};
+        }
+        const PartArrival arrival{sample->arrived_ns, 1e-6 * static_cast<double>(SteadyClockNs() - decode_start_ns)};
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (decoded.error.empty())
+          assembler_.addLidar(StampToNs(sample->cloud.header().stamp()), std::move(scan), arrival);
+        else
+          assembler_.reject(decoded.error);
       } else {
         std::string error;
         const auto pose = DecodeOdometry(sample->odometry, &error);
@@ -320,6 +364,7 @@ class Vehicle {
       }
       if (abandon_) return;
       for (ImageFrame& frame : frames) {
+        makeMasks(frame);
         if (options_.every_frame)
           pipeline_->push(std::move(frame));
         else
@@ -329,6 +374,23 @@ class Vehicle {
       // are reported too, stamped with the wall time.
       if (frames.empty() && counters_changed) publishStatus(SystemClockNs());
     }
+  }
+
+  // Masks from the frame's LiDAR scan (masks.source: lidar_clusters), on the feeder's thread: its time
+  // counts in the frame's input stage. When they cannot be made (an empty scan) the problem is counted
+  // as a rejection and the frame goes on without masks (all static), so that its odometry is not lost.
+  void makeMasks(ImageFrame& frame) {
+    if (masks_.source == MaskSourceKind::kDataset) return;
+    try {
+      PinholeCamera camera = options_.camera;
+      camera.width = frame.image.cols, camera.height = frame.image.rows;
+      ApplyMaskSource(masks_, camera, frame);
+    } catch (const std::exception& e) {
+      frame.instance_ids.release();
+      std::lock_guard<std::mutex> lock(mutex_);
+      assembler_.reject(std::string("frame at ") + std::to_string(frame.t_ns) + " ns: no masks: " + e.what());
+    }
+    frame.timing.assembled_ns = SteadyClockNs();
   }
 
   // The assembler's counters plus the samples the inbox dropped (as queue-full drops). Under mutex_.
@@ -401,6 +463,7 @@ class Vehicle {
 
   std::string name_;
   ServeOptions options_;
+  MaskSourceParams masks_;
   mutable std::mutex mutex_;  // assembler, status, handed_at_
   std::condition_variable wake_;
   bool stopping_ = false;
@@ -421,6 +484,7 @@ class Vehicle {
   uint64_t frames_processed_ = 0;
   std::mutex status_writer_mutex_;
   ImageListener colour_listener_, depth_listener_, mask_listener_;
+  LidarListener lidar_listener_;
   OdometryListener odometry_listener_;
   dds::DataWriter *odometry_writer_ = nullptr, *objects_writer_ = nullptr, *status_writer_ = nullptr,
                   *markers_writer_ = nullptr;
@@ -441,8 +505,17 @@ struct ServeNode::Impl {
   std::unique_ptr<RosGraphAnnouncer> graph;
 };
 
-ServeNode::ServeNode(const ServeOptions& options, const RunConfig& config) : impl_(std::make_unique<Impl>()) {
+ServeNode::ServeNode(const ServeOptions& options_in, const RunConfig& config) : impl_(std::make_unique<Impl>()) {
   config.validate();
+  ServeOptions options = options_in;
+  if (config.masks.source == MaskSourceKind::kLidarClusters) {
+    // Masks made from each frame's LiDAR scan: a frame needs a scan, not a mask.
+    if (!options.T_camera_lidar)
+      throw std::invalid_argument("masks.source lidar_clusters needs the LiDAR's pose in the camera (Tr_velo_to_cam "
+                                  "in the calibration)");
+    options.assembler.expect_mask = false;
+    options.assembler.expect_lidar = true;
+  }
   for (const std::string& name : options.vehicles)
     if (const std::string bad = FindInvalidVehicleName(name); !bad.empty()) throw std::invalid_argument(bad);
   if (const std::string bad = FindInvalidNodeName(options.node_name); !bad.empty()) throw std::invalid_argument(bad);

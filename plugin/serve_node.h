@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -30,6 +31,9 @@ struct ServeOptions {
   // older waiting frames are dropped, counted, their odometry carried on), so that estimates never lag;
   // true, every assembled frame is estimated however late (a replay, an offline recording).
   bool every_frame = false;
+  // The LiDAR's pose in the camera ([R | t], metric), for masks made from the LiDAR (masks.source:
+  // lidar_clusters): the scans on rt/<vehicle>/lidar/points come in the LiDAR's frame.
+  std::optional<Eigen::Matrix<double, 3, 4>> T_camera_lidar;
   // ROS 2 graph presence: per vehicle a node <node_name> in namespace /<vehicle> (or /), announced on
   // ros_discovery_info in the GID layout of this distribution (plugin/ros_graph.h).
   std::string node_name = "dslam";

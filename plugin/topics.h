@@ -1,6 +1,7 @@
 #pragma once
 // Topic names (DDS names of ROS 2 topics: "rt/" + the ROS name). A vehicle's topics live under its
 // namespace: rt/<vehicle>/camera/color/image_raw; without a vehicle name, rt/camera/color/image_raw.
+// The LiDAR: rt/<vehicle>/lidar/points.
 
 #include <string>
 
@@ -10,6 +11,7 @@ struct VehicleTopics {
   std::string colour, depth, mask, odometry;           // inputs
   std::string camera_odometry, object_motions, status;  // outputs
   std::string markers;                                  // output for RViz
+  std::string lidar;                                    // input when masks come from the LiDAR (PointCloud2)
 };
 
 // Empty when `vehicle` can name a vehicle: "" (no namespace) or ROS 2 name tokens ([A-Za-z_][A-Za-z0-9_]*)
@@ -47,9 +49,11 @@ inline std::string FindInvalidNodeName(const std::string& name) {
 
 inline VehicleTopics TopicsFor(const std::string& vehicle) {
   const std::string ns = vehicle.empty() ? "rt/" : "rt/" + vehicle + "/";
-  return {ns + "camera/color/image_raw",        ns + "camera/depth/image_raw", ns + "camera/instance_mask",
-          ns + "odom",                          ns + "dslam/camera_odometry", ns + "dslam/object_motions",
-          ns + "dslam/status",                  ns + "dslam/markers"};
+  VehicleTopics t{ns + "camera/color/image_raw",        ns + "camera/depth/image_raw", ns + "camera/instance_mask",
+                  ns + "odom",                          ns + "dslam/camera_odometry", ns + "dslam/object_motions",
+                  ns + "dslam/status",                  ns + "dslam/markers"};
+  t.lidar = ns + "lidar/points";
+  return t;
 }
 
 }  // namespace dslam

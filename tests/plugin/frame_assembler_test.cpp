@@ -120,6 +120,27 @@ TEST(FrameAssembler, AFramesTimingStartsAtItsFirstPartAndSumsItsDecoding) {
   EXPECT_EQ(frames[0].timing.frontend_start_ns, 0);  // the pipeline's to fill in
 }
 
+TEST(FrameAssembler, WithMasksFromTheLidarAFrameNeedsAScanInsteadOfAMask) {
+  AssemblerParams p;
+  p.expect_mask = false;
+  p.expect_lidar = true;
+  FrameAssembler a(p);
+  a.addColour(100, kImage);
+  a.addDepth(100, kDepth);
+  EXPECT_TRUE(a.takeReady().empty());  // waits for its scan
+  LidarPart scan;
+  scan.points_camera = {{0.0f, 0.0f, 5.0f}, {1.0f, 0.5f, 7.0f}};
+  scan.origin_camera = {0.0f, -0.08f, -0.27f};
+  scan.up_camera = {0.0f, -1.0f, 0.0f};
+  a.addLidar(100, scan);
+  const auto frames = a.takeReady();
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_EQ(frames[0].lidar_points_camera, scan.points_camera);
+  EXPECT_EQ(frames[0].lidar_origin_camera, scan.origin_camera);
+  EXPECT_TRUE(frames[0].instance_ids.empty());
+  EXPECT_EQ(a.counters().parts_received, 3u);
+}
+
 TEST(FrameAssembler, DropsIncompleteSetsAfterTheTimeoutAndCountsThem) {
   AssemblerParams p = WithOdometry();
   p.timeout_ns = 1000;

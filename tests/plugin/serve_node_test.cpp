@@ -99,9 +99,10 @@ TEST(ServeCommand, ExitsTwoOnBadOptionsAndFourWhenItsOutputFolderIsInUse) {
   EXPECT_NE(err.str().find("--node-name: node name 'dslam/front' is not a ROS 2 node name"), std::string::npos)
       << err.str();
   bad = options;
-  bad.config_path = std::string(DSLAM_SOURCE_DIR) + "/config/kitti_raw_traffic.yaml";  // masks from a LiDAR
+  // Masks from a LiDAR whose pose the calibration does not give.
+  bad.config_path = std::string(DSLAM_SOURCE_DIR) + "/config/kitti_raw_traffic.yaml";
   EXPECT_EQ(RunServeCommand(bad, out, err), 2) << err.str();
-  EXPECT_NE(err.str().find("masks.source lidar_clusters is not supported by serve"), std::string::npos) << err.str();
+  EXPECT_NE(err.str().find("masks.source lidar_clusters needs Tr_velo_to_cam"), std::string::npos) << err.str();
   const DirLock taken(options.out_dir + "/v");
   EXPECT_EQ(RunServeCommand(options, out, err), 4) << err.str();
   EXPECT_NE(err.str().find("is in use by another process"), std::string::npos) << err.str();

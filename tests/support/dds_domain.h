@@ -12,15 +12,15 @@ namespace dslam::test {
 enum class DdsTestSlot { kLoopbackEqual = 0, kLoopbackBadSamples, kLoopbackRestart, kLoopbackTwoProcesses, kSecurity,
                          kLoopbackSigkill, kServeNodeErrors, kPublishStop, kLoopbackSecondSignal, kLoopbackSamplesLost,
                          kCycloneListener, kCycloneCameraDriver, kCycloneImageReader, kRosGraphJazzy, kRosGraphHumble,
-                         kLoopbackNewestWins, kSlots };
-static_assert(static_cast<int>(DdsTestSlot::kSlots) <= 16, "16 domain ids per build tree");
+                         kLoopbackNewestWins, kServeLidar, kSlots };
+static_assert(static_cast<int>(DdsTestSlot::kSlots) <= 32, "32 domain ids per build tree");
 
-// The slot's domain id: the base (0, 16, ..., 208; domain ids go up to 232) comes from the test binary's
-// directory, so that the suites of two build trees run at once on one host collide only 1 time in 14.
+// The slot's domain id: the base (0, 32, ..., 192; domain ids go up to 232) comes from the test binary's
+// directory, so that the suites of two build trees run at once on one host collide only 1 time in 7.
 inline int DomainFor(DdsTestSlot slot) {
   std::error_code ec;
   const std::string build_dir = std::filesystem::read_symlink("/proc/self/exe", ec).parent_path().string();
-  return static_cast<int>(std::hash<std::string>{}(build_dir) % 14) * 16 + static_cast<int>(slot);
+  return static_cast<int>(std::hash<std::string>{}(build_dir) % 7) * 32 + static_cast<int>(slot);
 }
 
 }  // namespace dslam::test
