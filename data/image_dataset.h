@@ -58,10 +58,9 @@ class ImageDataset {
   // The odometry increment into frame k (none for the first frame or without odometry.txt), without
   // reading the frame's images.
   std::optional<OdometryMeasurement> odometryAt(int k) const;
-  // With LiDAR (hasLidar()): frame k's scan as recorded, in the LiDAR's frame ("x y z reflectance"), and
-  // the transform that takes it into the camera's (what read() applies to it).
+  // With LiDAR (hasLidar()): frame k's scan as recorded, in the LiDAR's frame ("x y z reflectance"),
+  // before read() takes it into the camera's.
   std::vector<Eigen::Vector4f> readLidarScan(int k) const;
-  const Eigen::Matrix<double, 3, 4>& T_camera_lidar() const { return T_camera_lidar_; }
 
   // Ground truth when the folder has it (camera poses at least).
   const std::optional<KittiGroundTruthSequence>& groundTruth() const { return ground_truth_; }

@@ -1,6 +1,5 @@
 #include "pipeline/staged_pipeline.h"
 
-#include <chrono>
 #include <stdexcept>
 
 namespace dslam {
@@ -71,7 +70,6 @@ void StagedPipeline::runFrontend() {
     try {
       if (carried && frame->odometry) frame->odometry = Compose(*carried, *frame->odometry);
       frame->frame_index = accepted;  // the back-end numbers frames 0, 1, 2, ... as they reach it
-      const auto start = std::chrono::steady_clock::now();
       FrameTiming timing = frame->timing;
       timing.frontend_start_ns = SteadyClockNs();
       FrameMeasurement m;
@@ -85,10 +83,10 @@ void StagedPipeline::runFrontend() {
         continue;
       }
       carried.reset();
-      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
       timing.frontend_end_ns = SteadyClockNs();
       ++accepted;
-      if (callbacks_.on_measurement) callbacks_.on_measurement(m, frontend_->lastStats(), ms);
+      if (callbacks_.on_measurement)
+        callbacks_.on_measurement(m, frontend_->lastStats(), 1e-6 * static_cast<double>(timing.frontend_end_ns - timing.frontend_start_ns));
       if (!measurements_.push({std::move(m), timing})) return;
     } catch (...) {
       fail(std::current_exception());

@@ -85,11 +85,11 @@ class Vehicle {
         inbox_(kInboxSamplesPerFrame * static_cast<size_t>(options.assembler.max_pending)),
         dir_lock_(ResultDir(options, name)),
         stream_(ResultDir(options, name)),
-        colour_listener_(this, ImageRole::kColour),
-        depth_listener_(this, ImageRole::kDepth),
-        mask_listener_(this, ImageRole::kMask),
-        lidar_listener_(this),
-        odometry_listener_(this) {
+        colour_listener_(this, ImageSample(ImageRole::kColour), &Sample::image),
+        depth_listener_(this, ImageSample(ImageRole::kDepth), &Sample::image),
+        mask_listener_(this, ImageSample(ImageRole::kMask), &Sample::image),
+        lidar_listener_(this, LidarSample(), &Sample::cloud),
+        odometry_listener_(this, Sample{}, &Sample::odometry) {
     const VehicleTopics topics = TopicsFor(name);
     odometry_writer_ = session.writer(topics.camera_odometry, new nav_msgs::msg::OdometryPubSubType(), "estimate_writer");
     objects_writer_ =
@@ -240,14 +240,17 @@ class Vehicle {
     sensor_msgs::msg::PointCloud2 cloud;
   };
 
-  class ImageListener : public dds::DataReaderListener {
+  // One input topic: each sample taken from its reader goes into the inbox with its arrival time, as a
+  // copy of `prototype` (which says what the sample is) with the message in its `message` field.
+  template <class Msg>
+  class InputListener : public dds::DataReaderListener {
    public:
-    ImageListener(Vehicle* v, ImageRole role) : vehicle_(v), role_(role) {}
+    InputListener(Vehicle* v, Sample prototype, Msg Sample::*message)
+        : vehicle_(v), prototype_(std::move(prototype)), message_(message) {}
     void on_data_available(dds::DataReader* reader) override {
-      Sample sample;
-      sample.role = role_;
+      Sample sample = prototype_;
       dds::SampleInfo info;
-      while (reader->take_next_sample(&sample.image, &info) == ReturnCode_t::RETCODE_OK) {
+      while (reader->take_next_sample(&(sample.*message_), &info) == ReturnCode_t::RETCODE_OK) {
         sample.arrived_ns = SteadyClockNs();
         if (info.valid_data) vehicle_->inbox_.pushDropOldest(sample);
       }
@@ -258,45 +261,19 @@ class Vehicle {
 
    private:
     Vehicle* vehicle_;
-    ImageRole role_;
+    Sample prototype_;
+    Msg Sample::*message_;
   };
-  class LidarListener : public dds::DataReaderListener {
-   public:
-    explicit LidarListener(Vehicle* v) : vehicle_(v) {}
-    void on_data_available(dds::DataReader* reader) override {
-      Sample sample;
-      sample.is_lidar = true;
-      dds::SampleInfo info;
-      while (reader->take_next_sample(&sample.cloud, &info) == ReturnCode_t::RETCODE_OK) {
-        sample.arrived_ns = SteadyClockNs();
-        if (info.valid_data) vehicle_->inbox_.pushDropOldest(sample);
-      }
-    }
-    void on_sample_lost(dds::DataReader*, const dds::SampleLostStatus& status) override {
-      vehicle_->samples_lost_ += static_cast<uint64_t>(std::max(0, status.total_count_change));
-    }
-
-   private:
-    Vehicle* vehicle_;
-  };
-  class OdometryListener : public dds::DataReaderListener {
-   public:
-    explicit OdometryListener(Vehicle* v) : vehicle_(v) {}
-    void on_data_available(dds::DataReader* reader) override {
-      Sample sample;
-      dds::SampleInfo info;
-      while (reader->take_next_sample(&sample.odometry, &info) == ReturnCode_t::RETCODE_OK) {
-        sample.arrived_ns = SteadyClockNs();
-        if (info.valid_data) vehicle_->inbox_.pushDropOldest(sample);
-      }
-    }
-    void on_sample_lost(dds::DataReader*, const dds::SampleLostStatus& status) override {
-      vehicle_->samples_lost_ += static_cast<uint64_t>(std::max(0, status.total_count_change));
-    }
-
-   private:
-    Vehicle* vehicle_;
-  };
+  static Sample ImageSample(ImageRole role) {
+    Sample s;
+    s.role = role;
+    return s;
+  }
+  static Sample LidarSample() {
+    Sample s;
+    s.is_lidar = true;
+    return s;
+  }
 
   // The intake thread: decodes samples (off Fast DDS' receive thread) and assembles frames.
   void runIntake() {
@@ -483,9 +460,9 @@ class Vehicle {
   std::string pipeline_failure_;
   uint64_t frames_processed_ = 0;
   std::mutex status_writer_mutex_;
-  ImageListener colour_listener_, depth_listener_, mask_listener_;
-  LidarListener lidar_listener_;
-  OdometryListener odometry_listener_;
+  InputListener<sensor_msgs::msg::Image> colour_listener_, depth_listener_, mask_listener_;
+  InputListener<sensor_msgs::msg::PointCloud2> lidar_listener_;
+  InputListener<nav_msgs::msg::Odometry> odometry_listener_;
   dds::DataWriter *odometry_writer_ = nullptr, *objects_writer_ = nullptr, *status_writer_ = nullptr,
                   *markers_writer_ = nullptr;
   RosGraphNode graph_node_;
