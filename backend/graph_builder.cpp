@@ -110,7 +110,10 @@ void GraphBuilder::addObject(const ObjectObservation& obs, int frame, const SE3&
 
   if (consecutive && !obs.is_dynamic) {
     // Static over k-1 -> k: the object's points keep their variables and act as static structure.
-    ObjectTransition transition{obs.object_id, frame, false, -1, {}, std::nullopt};
+    ObjectTransition transition;
+    transition.object_id = obs.object_id;
+    transition.frame = frame;
+    transition.is_dynamic = false;
     DescribeFromMeasurement(obs, &transition);
     for (size_t i = 0; i < obs.points.size(); ++i) {
       if (prev_vars[i] >= 0) {
@@ -148,7 +151,10 @@ void GraphBuilder::addObject(const ObjectObservation& obs, int frame, const SE3&
 
 void GraphBuilder::addDynamicTransition(const ObjectObservation& obs, int frame, ObjectTrackState& state,
                                         const std::vector<int>& prev_vars, const std::vector<int>& curr_vars) {
-  ObjectTransition transition{obs.object_id, frame, true, -1, {}, std::nullopt, obs.reported};
+  ObjectTransition transition;
+  transition.object_id = obs.object_id;
+  transition.frame = frame;
+  transition.reported = obs.reported;
   DescribeFromMeasurement(obs, &transition);
   std::vector<Vec3> src, dst;
   std::vector<size_t> pair_index;

@@ -17,7 +17,7 @@
 #include "data/mask_degrader.h"
 #include "pipeline/config_yaml.h"
 #include "pipeline/mask_source.h"
-#include "percentile.h"
+#include "bench/percentile.h"
 
 namespace {
 

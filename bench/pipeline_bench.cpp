@@ -23,7 +23,7 @@
 #include "data/image_dataset.h"
 #include "pipeline/image_run.h"
 #include "pipeline/staged_pipeline.h"
-#include "plugin/vehicle_pipeline.h"
+#include "pipeline/vehicle_pipeline.h"
 
 namespace {
 using Clock = std::chrono::steady_clock;

@@ -19,7 +19,7 @@
 #include "data/image_dataset.h"
 #include "pipeline/config_yaml.h"
 #include "pipeline/mask_source.h"
-#include "percentile.h"
+#include "bench/percentile.h"
 
 namespace {
 

@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "data/kitti_dataset.h"
-#include "frontend/depth_maps.h"
+#include "data/depth_maps.h"
 #include "data/image_frame.h"
 #include "geometry/pinhole_camera.h"
 

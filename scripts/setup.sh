@@ -1,9 +1,19 @@
 #!/usr/bin/env bash
 # Installs the Debian packages listed in scripts/deps.txt when missing, then configures and builds.
-# Usage: scripts/setup.sh [BUILD_DIR]   (default: build; Release; -j2)
+# Usage: scripts/setup.sh [--target TARGET]... [BUILD_DIR]   (default: everything into build/; Release; -j2)
+#   --target TARGET   build only TARGET (and what it needs), e.g. dslam; may be repeated
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-build_dir="${1:-$root/build}"
+targets=()
+build_dir="$root/build"
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --target) [ $# -ge 2 ] || { echo "setup: --target needs a target name" >&2; exit 2; }
+              targets+=(--target "$2"); shift 2 ;;
+    -*) echo "setup: unknown option $1 (usage: scripts/setup.sh [--target TARGET]... [BUILD_DIR])" >&2; exit 2 ;;
+    *) build_dir="$1"; shift ;;
+  esac
+done
 
 mapfile -t wanted < <(grep -vE '^\s*(#|$)' "$root/scripts/deps.txt")
 missing=()
@@ -19,4 +29,4 @@ if [ "${#missing[@]}" -gt 0 ]; then
 fi
 
 cmake -S "$root" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$build_dir" -j2
+cmake --build "$build_dir" -j2 "${targets[@]}"

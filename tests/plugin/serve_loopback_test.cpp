@@ -32,7 +32,7 @@
 #include "plugin/image_message.h"
 #include "plugin/topics.h"
 #include "output/trajectory_io.h"
-#include "plugin/vehicle_pipeline.h"
+#include "pipeline/vehicle_pipeline.h"
 #include "sensor_msgs_ImagePubSubTypes.h"
 #include "support/child_process.h"
 #include "support/dds_domain.h"

@@ -8,7 +8,7 @@
 #include "data/image_dataset.h"
 #include "plugin/frame_assembler.h"
 #include "plugin/image_message.h"
-#include "plugin/vehicle_pipeline.h"
+#include "pipeline/vehicle_pipeline.h"
 
 namespace dslam::test {
 

@@ -1,5 +1,5 @@
 // The online pipeline that `dslam serve` runs computes what `dslam run` records for ours, frame by frame.
-#include "plugin/vehicle_pipeline.h"
+#include "pipeline/vehicle_pipeline.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "frontend/depth_maps.h"
+#include "data/depth_maps.h"
 
 #include <algorithm>
 

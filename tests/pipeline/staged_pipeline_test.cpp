@@ -16,7 +16,7 @@
 #include "output/trajectory_io.h"
 #include "pipeline/image_run.h"
 #include "pipeline/run_sequence.h"
-#include "plugin/vehicle_pipeline.h"
+#include "pipeline/vehicle_pipeline.h"
 #include "support/rendered_city.h"
 #include "support/temp_paths.h"
 

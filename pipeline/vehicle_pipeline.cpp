@@ -1,4 +1,4 @@
-#include "plugin/vehicle_pipeline.h"
+#include "pipeline/vehicle_pipeline.h"
 
 #include "pipeline/staged_pipeline.h"
 
