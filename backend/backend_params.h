@@ -27,7 +27,7 @@ enum class LinearSolver { kCholesky, kSchur };
 
 struct NoiseParams {
   double point_sigma_m = 0.02;               // 3D measurement sigma per axis at zero depth
-  double point_sigma_per_depth_sq = 0.0;     // added sigma per m^2 of depth (stereo / RGB-D)
+  double point_sigma_per_depth_sq = 0.0;     // added sigma per m^2 of depth, along the viewing ray (stereo / RGB-D)
   double motion_sigma_m = 0.005;             // ternary point-motion factor (rigidity)
   double smoothness_sigma_t_m = 0.1;         // smoothness factor, translation part
   double smoothness_sigma_r_rad = 0.02;      // smoothness factor, rotation part

@@ -1,5 +1,6 @@
 #include "backend/graph_builder.h"
 
+#include <cmath>
 #include <stdexcept>
 
 #include "backend/factors/pose_block.h"
@@ -21,8 +22,12 @@ GraphBuilder::GraphBuilder(const BackendParams& params, const BuilderOptions& op
 }
 
 Vec3 GraphBuilder::pointSigma(const Vec3& z_camera) const {
-  const double depth = z_camera.z();
-  return Vec3::Constant(params_.noise.point_sigma_m + params_.noise.point_sigma_per_depth_sq * depth * depth);
+  // Depth noise (stereo: sigma_z = sigma_disparity * z^2 / (fx * b)) lies along the viewing ray, so it moves
+  // x and y by x/z and y/z of it: per axis, the diagonal of that covariance.
+  const double depth = z_camera.z(), along_ray = params_.noise.point_sigma_per_depth_sq * depth * depth;
+  const double lateral_x = depth > 0.0 ? std::abs(z_camera.x() / depth) : 0.0;
+  const double lateral_y = depth > 0.0 ? std::abs(z_camera.y() / depth) : 0.0;
+  return (Vec3(lateral_x, lateral_y, 1.0) * along_ray).array() + params_.noise.point_sigma_m;
 }
 
 int GraphBuilder::newPointVariable(const Vec3& p_world, int64_t track_id, int object_id, int frame, int prev_var) {

@@ -9,6 +9,7 @@
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/ximgproc/disparity_filter.hpp>
 
 namespace dslam {
 namespace {
@@ -66,6 +67,15 @@ void StereoParams::validate() const {
     throw std::invalid_argument("stereo num_disparities must be a positive multiple of 16");
   if (block_size < 1 || block_size % 2 == 0) throw std::invalid_argument("stereo block_size must be odd and >= 1");
   if (uniqueness_ratio < 0) throw std::invalid_argument("stereo uniqueness_ratio must be >= 0");
+  if (!(lr_max_difference_px >= 0.0 && lr_max_difference_px <= 64.0))
+    throw std::invalid_argument("stereo lr_max_difference_px must be in [0, 64] (0: no check)");
+  if (filter != "none" && filter != "wls")
+    throw std::invalid_argument("unknown stereo filter '" + filter + "' (expected none or wls)");
+  if (!(wls_lambda > 0.0 && wls_lambda <= 1e6)) throw std::invalid_argument("stereo wls_lambda must be in (0, 1e6]");
+  if (!(wls_sigma_color > 0.0 && wls_sigma_color <= 100.0))
+    throw std::invalid_argument("stereo wls_sigma_color must be in (0, 100]");
+  if (!(wls_min_confidence >= 0.0 && wls_min_confidence <= 255.0))
+    throw std::invalid_argument("stereo wls_min_confidence must be in [0, 255]");
 }
 
 cv::Mat DepthFromStereo(const cv::Mat& left, const cv::Mat& right, double fx, double baseline_m,
@@ -77,10 +87,43 @@ cv::Mat DepthFromStereo(const cv::Mat& left, const cv::Mat& right, double fx, do
                                 std::to_string(l.rows) + ", right " + std::to_string(r.cols) + "x" +
                                 std::to_string(r.rows));
   const int p1 = 8 * params.block_size * params.block_size, p2 = 32 * params.block_size * params.block_size;
-  auto sgbm = cv::StereoSGBM::create(0, params.num_disparities, params.block_size, p1, p2, 1, 63,
-                                     params.uniqueness_ratio, 100, 2, cv::StereoSGBM::MODE_SGBM_3WAY);
+  cv::Ptr<cv::StereoSGBM> left_matcher = cv::StereoSGBM::create(0, params.num_disparities, params.block_size, p1, p2, 1,
+                                                                63, params.uniqueness_ratio, 100, 2,
+                                                                cv::StereoSGBM::MODE_SGBM_3WAY);
   cv::Mat disparity16;
-  sgbm->compute(l, r, disparity16);  // fixed point, 4 fractional bits; negative = invalid
+  left_matcher->compute(l, r, disparity16);  // fixed point, 4 fractional bits; negative = invalid
+  const bool lr_check = params.lr_max_difference_px > 0.0;
+  if (!lr_check && params.filter == "none") return DepthFromDisparity(disparity16, 16.0, fx * baseline_m);
+
+  // The right image's disparities (negative: its matches lie to the right), by the same matcher mirrored.
+  cv::Ptr<cv::StereoMatcher> right_matcher = cv::ximgproc::createRightMatcher(left_matcher);
+  cv::Mat right16;
+  right_matcher->compute(r, l, right16);
+  const int right_invalid16 = (right_matcher->getMinDisparity() - 1) * 16;
+  if (params.filter == "wls") {
+    auto wls = cv::ximgproc::createDisparityWLSFilter(left_matcher);
+    wls->setLambda(params.wls_lambda);
+    wls->setSigmaColor(params.wls_sigma_color);
+    cv::Mat filtered;
+    wls->filter(disparity16, l, filtered, right16);
+    const cv::Mat confidence = wls->getConfidenceMap();  // CV_32F, 0..255; 0 where the left-right check failed
+    filtered.setTo(-1, confidence < params.wls_min_confidence);
+    disparity16 = filtered;
+  }
+  if (lr_check) {
+    // A left pixel u with disparity d matches right pixel u - d, whose own disparity must lead back to u.
+    const int max_difference16 = static_cast<int>(std::lround(16.0 * params.lr_max_difference_px));
+    for (int v = 0; v < disparity16.rows; ++v) {
+      auto* dl = disparity16.ptr<int16_t>(v);
+      const auto* dr = right16.ptr<int16_t>(v);
+      for (int u = 0; u < disparity16.cols; ++u) {
+        if (dl[u] <= 0) continue;
+        const int ur = u - static_cast<int>(std::lround(dl[u] / 16.0));
+        const int back16 = ur >= 0 && dr[ur] != right_invalid16 ? -static_cast<int>(dr[ur]) : -1;
+        if (back16 <= 0 || std::abs(back16 - dl[u]) > max_difference16) dl[u] = -1;
+      }
+    }
+  }
   return DepthFromDisparity(disparity16, 16.0, fx * baseline_m);
 }
 

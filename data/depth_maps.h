@@ -20,9 +20,19 @@ struct StereoParams {
   int num_disparities = 128;  // multiple of 16
   int block_size = 5;         // odd
   int uniqueness_ratio = 10;
+  // Left-right consistency: a pixel keeps its disparity only when the right image's own match points back
+  // to it within this many pixels; occlusions and mismatches at object edges fail it. 0: no check.
+  double lr_max_difference_px = 0.0;
+  // "none", or "wls": OpenCV's edge-aware weighted-least-squares filter (ximgproc) smooths the disparity
+  // along the left image's edges, and only pixels it is confident of (>= wls_min_confidence of 255) stay.
+  std::string filter = "none";
+  double wls_lambda = 8000.0;
+  double wls_sigma_color = 1.5;
+  double wls_min_confidence = 200.0;
   void validate() const;
 };
-// Rectified stereo pair (left, right: same size, 8-bit) to depth by OpenCV's semi-global matching.
+// Rectified stereo pair (left, right: same size, 8-bit) to depth by OpenCV's semi-global matching, at
+// 1/16 px of disparity (SGBM's sub-pixel fit), checked left-right and optionally filtered (above).
 cv::Mat DepthFromStereo(const cv::Mat& left, const cv::Mat& right, double fx, double baseline_m,
                         const StereoParams& params = {});
 

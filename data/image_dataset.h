@@ -19,9 +19,9 @@
 #include <string>
 #include <vector>
 
-#include "data/kitti_dataset.h"
 #include "data/depth_maps.h"
 #include "data/image_frame.h"
+#include "data/kitti_dataset.h"
 #include "geometry/pinhole_camera.h"
 
 namespace dslam {

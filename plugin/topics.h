@@ -51,8 +51,7 @@ inline VehicleTopics TopicsFor(const std::string& vehicle) {
   const std::string ns = vehicle.empty() ? "rt/" : "rt/" + vehicle + "/";
   VehicleTopics t{ns + "camera/color/image_raw",        ns + "camera/depth/image_raw", ns + "camera/instance_mask",
                   ns + "odom",                          ns + "dslam/camera_odometry", ns + "dslam/object_motions",
-                  ns + "dslam/status",                  ns + "dslam/markers"};
-  t.lidar = ns + "lidar/points";
+                  ns + "dslam/status",                  ns + "dslam/markers", ns + "lidar/points"};
   return t;
 }
 

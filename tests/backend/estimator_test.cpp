@@ -152,6 +152,28 @@ TEST(GraphBuilder, StartsFromTheFrontEndsMotionFitAndChecksItsInliersInTheWorld)
   EXPECT_TRUE(graph.motions.begin()->second.worldMotion().isApprox(H, 1e-9));
 }
 
+TEST(GraphBuilder, DepthNoiseWeighsEachPointAlongItsViewingRay) {
+  // Stereo depth: sigma_z = sigma_0 + k z^2 along the ray, which moves x and y by x/z and y/z of it.
+  BackendParams params;
+  params.noise.point_sigma_m = 0.02;
+  params.noise.point_sigma_per_depth_sq = 1e-3;
+  FrameMeasurement f0;
+  f0.static_points = {{1, Vec3(0.0, 0.0, 10.0)}, {2, Vec3(5.0, -2.0, 10.0)}, {3, Vec3(0.0, 0.0, 2.0)}};
+  FactorGraph graph;
+  GraphBuilder builder(params, BuilderOptions{}, &graph);
+  builder.addFrame(f0);
+  const auto& m = graph.frame(0).measurements;
+  ASSERT_EQ(m.size(), 3u);
+  EXPECT_TRUE(m[0].sigma_m.isApprox(Vec3(0.02, 0.02, 0.12), 1e-12));             // on the axis: depth only
+  EXPECT_TRUE(m[1].sigma_m.isApprox(Vec3(0.02 + 0.05, 0.02 + 0.02, 0.12), 1e-12));  // x/z = 0.5, y/z = 0.2
+  EXPECT_TRUE(m[2].sigma_m.isApprox(Vec3(0.02, 0.02, 0.024), 1e-12));            // near: barely more
+  params.noise.point_sigma_per_depth_sq = 0.0;  // RGB-D default: every axis the same
+  FactorGraph flat;
+  GraphBuilder flat_builder(params, BuilderOptions{}, &flat);
+  flat_builder.addFrame(f0);
+  EXPECT_TRUE(flat.frame(0).measurements[1].sigma_m.isApprox(Vec3::Constant(0.02), 1e-12));
+}
+
 TEST(GraphBuilder, AJitteringStaticObjectsPointsWeighAsOneLandmarkOfItsJitter) {
   // 16 points of a static object whose position jitters by 3 cm: as static structure each point's
   // variance grows by 16 x (3 cm)^2, so together they tell the camera what one 3 cm landmark would.

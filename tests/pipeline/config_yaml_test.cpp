@@ -114,6 +114,24 @@ TEST(ConfigYaml, MaskSourceAndLidarKeysRoundTripAndAreChecked) {
   EXPECT_FALSE(traffic.frontend.association.mask_ids_tracked);
 }
 
+TEST(ConfigYaml, TheStereoSettingsAndTheShippedStereoConfiguration) {
+  const RunConfig c = ParseRunConfig(
+      "dataset: {stereo_lr_max_difference_px: 1.5, stereo_filter: wls, stereo_wls_lambda: 4000, "
+      "stereo_wls_sigma_color: 2, stereo_wls_min_confidence: 100}\n");
+  EXPECT_DOUBLE_EQ(c.dataset.stereo.lr_max_difference_px, 1.5);
+  EXPECT_EQ(c.dataset.stereo.filter, "wls");
+  EXPECT_DOUBLE_EQ(c.dataset.stereo.wls_lambda, 4000.0);
+  EXPECT_DOUBLE_EQ(c.dataset.stereo.wls_sigma_color, 2.0);
+  EXPECT_DOUBLE_EQ(c.dataset.stereo.wls_min_confidence, 100.0);
+  EXPECT_EQ(RunConfigToYaml(ParseRunConfig(RunConfigToYaml(c))), RunConfigToYaml(c));
+  EXPECT_THROW(ParseRunConfig("dataset: {stereo_filter: median}\n"), std::invalid_argument);
+  EXPECT_THROW(ParseRunConfig("dataset: {stereo_lr_max_difference_px: -1}\n"), std::invalid_argument);
+  // KITTI's stereo rig: depth from the pair, weighed as stereo depth (0.25 px / (721 px * 0.54 m)).
+  const RunConfig stereo = LoadRunConfig(std::string(DSLAM_SOURCE_DIR) + "/config/kitti_stereo.yaml");
+  EXPECT_EQ(stereo.dataset.depth_encoding, "stereo");
+  EXPECT_NEAR(stereo.backend.noise.point_sigma_per_depth_sq, 0.25 / (721.0 * 0.54), 1e-5);
+}
+
 TEST(ConfigYaml, MissingFileIsAnError) {
   EXPECT_THROW(LoadRunConfig("/nonexistent/dslam.yaml"), std::invalid_argument);
 }

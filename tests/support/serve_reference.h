@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "data/image_dataset.h"
+#include "pipeline/vehicle_pipeline.h"
 #include "plugin/frame_assembler.h"
 #include "plugin/image_message.h"
-#include "pipeline/vehicle_pipeline.h"
 
 namespace dslam::test {
 
