@@ -7,6 +7,7 @@
 #include <set>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "geometry/se3.h"
@@ -31,6 +32,10 @@ struct GroundTruth {
     Vec3 p_body;
   };
   std::unordered_map<int64_t, BodyPoint> object_points;  // track id -> point fixed in the body frame
+  // When the run's masks are not the dataset's (made from the LiDAR, say), its object ids are its own:
+  // (frame, ground-truth object id) -> the run's id of that object in that frame, found by where the run's
+  // object points fall in the dataset's own masks. Absent: the run's ids are the ground truth's.
+  std::optional<std::map<std::pair<int, int>, int>> run_object_ids;
 
   // World position of a tracked point at frame k; false when the track id is unknown.
   bool pointWorld(int64_t track_id, int frame, Vec3* p_world) const;

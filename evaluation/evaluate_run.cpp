@@ -32,6 +32,13 @@ void SetEstimate(const ObjectMotionEstimate& motion, ObjectPairSample* s) {
   s->speed_sigma_est_mps = motion.speed_sigma_mps;
 }
 
+int RunObjectId(const GroundTruth& gt, int gt_id, int frame) {
+  if (!gt.run_object_ids) return gt_id;
+  const auto now = gt.run_object_ids->find({frame, gt_id}), before = gt.run_object_ids->find({frame - 1, gt_id});
+  if (now == gt.run_object_ids->end() || before == gt.run_object_ids->end() || now->second != before->second) return 0;
+  return now->second;
+}
+
 std::vector<ObjectPairSample> BuildObjectSamples(const Sequence& seq, const Estimate& est, const std::string& category) {
   std::map<std::pair<int, int>, const ObjectMotionEstimate*> by_key;
   for (const auto& m : est.object_motions) by_key[{m.object_id, m.frame}] = &m;
@@ -41,7 +48,7 @@ std::vector<ObjectPairSample> BuildObjectSamples(const Sequence& seq, const Esti
     for (int k : obj.observed_frames) {
       std::optional<ObjectPairSample> s = GroundTruthPair(seq.gt, seq.frame_rate_hz, id, k);
       if (!s) continue;
-      const auto it = by_key.find({id, k});
+      const auto it = by_key.find({RunObjectId(seq.gt, id, k), k});
       if (it != by_key.end()) SetEstimate(*it->second, &*s);
       samples.push_back(*s);
     }

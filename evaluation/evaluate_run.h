@@ -21,6 +21,12 @@ struct MethodMetrics {
 // The ground-truth sample of object `object_id` over frame - 1 -> frame, without estimate; nullopt unless
 // the sensor observed the object in both frames.
 std::optional<ObjectPairSample> GroundTruthPair(const GroundTruth& gt, double frame_rate_hz, int object_id, int frame);
+
+// The run's id of ground-truth object `gt_id` over frame - 1 -> frame (GroundTruth::run_object_ids): its own id
+// when the run's ids are the ground truth's; else the id the run gave it in both frames, or 0 (no estimate of
+// it) when the run had it in one of them only, or under two ids (its track restarted, or it took another's).
+int RunObjectId(const GroundTruth& gt, int gt_id, int frame);
+
 // Fills the sample's estimate fields from `motion`.
 void SetEstimate(const ObjectMotionEstimate& motion, ObjectPairSample* sample);
 

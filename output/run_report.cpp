@@ -24,18 +24,23 @@ WholeFile OpenCsv(const std::string& path, const std::string& header) {
   return out;
 }
 
-// Rows for every ground-truth pair (estimate blank when missing), then every estimate without one.
+// Rows for every ground-truth pair (estimate blank when missing), then every estimate without one. When the
+// run's object ids are its own (GroundTruth::run_object_ids), a row carries the run's id and the ground truth
+// of the object it was found to be over that pair; pairs the run has no estimate of are left out.
 void WriteObjectTables(const std::string& dir, const std::string& suffix, const Sequence& seq, const Estimate& est) {
   std::map<std::pair<int, int>, const ObjectMotionEstimate*> by_key;
   for (const auto& m : est.object_motions) by_key[{m.object_id, m.frame}] = &m;
   WholeFile motions = OpenCsv(dir + "/object_motions" + suffix + ".csv", kObjectMotionsHeader);
   WholeFile speeds = OpenCsv(dir + "/object_speeds" + suffix + ".csv", kObjectSpeedsHeader);
+  const bool own_ids = seq.gt.run_object_ids.has_value();
   for (const auto& [id, obj] : seq.gt.objects)
     for (int k : obj.observed_frames) {
       const std::optional<ObjectPairSample> gt = GroundTruthPair(seq.gt, seq.frame_rate_hz, id, k);
       if (!gt) continue;
-      const auto it = by_key.find({id, k});
-      PutObjectRows(motions, speeds, id, k, it == by_key.end() ? nullptr : it->second, &*gt);
+      const int run_id = RunObjectId(seq.gt, id, k);
+      const auto it = by_key.find({run_id, k});
+      if (own_ids && it == by_key.end()) continue;
+      PutObjectRows(motions, speeds, own_ids ? run_id : id, k, it == by_key.end() ? nullptr : it->second, &*gt);
       if (it != by_key.end()) by_key.erase(it);
     }
   for (const auto& [key, m] : by_key) PutObjectRows(motions, speeds, key.first, key.second, m, nullptr);

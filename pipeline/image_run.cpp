@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 #include <mutex>
 #include <set>
+#include <unordered_map>
 
 #include "pipeline/staged_pipeline.h"
 
@@ -19,11 +21,30 @@ class FrontendRecorder {
                    Sequence* seq)
       : frames_(frames), progress_(progress), progress_mutex_(progress_mutex), frame_log_(frame_log), seq_(seq) {}
 
+  // With masks made by the run (from the LiDAR, say) on a dataset that has its own: the dataset's mask of
+  // each frame, kept until the frame's measurement arrives, tells which ground-truth object each of the
+  // run's objects is (where its points fall) and which objects are large enough to count.
+  void useReferenceMasks(const PinholeCamera& camera, double min_mask_area_pct) {
+    reference_camera_ = camera;
+    min_mask_area_pct_ = min_mask_area_pct;
+    run_object_ids_.emplace();
+  }
+  bool usesReferenceMasks() const { return run_object_ids_.has_value(); }
+  void keepReferenceMask(int frame, cv::Mat ids) {
+    std::lock_guard<std::mutex> lock(reference_mutex_);
+    reference_masks_[frame] = std::move(ids);
+  }
+  std::optional<std::map<std::pair<int, int>, int>> runObjectIds() const { return run_object_ids_; }
+
   void record(const FrameMeasurement& m, const FrontendFrameStats& st, double frontend_ms) {
     const int k = static_cast<int>(seq_->frames.size());
     seq_->frames.push_back(m);
     frontend_ms_ += frontend_ms;
-    for (int label : st.mask_labels) visible_.insert({k, label});
+    if (run_object_ids_) {
+      matchToReference(k, m);
+    } else {
+      for (int label : st.mask_labels) visible_.insert({k, label});
+    }
     if (frame_log_) {
       if (k == 0)
         *frame_log_ << "frame,object_id,flowed,tracked,added,measured,motion_rejected,pnp_inliers,median_fb_px,"
@@ -55,6 +76,47 @@ class FrontendRecorder {
   }
 
   bool visible(int k, int label) const { return visible_.count({k, label}) > 0; }
+
+  void matchToReference(int k, const FrameMeasurement& m) {
+    cv::Mat ids;
+    {
+      std::lock_guard<std::mutex> lock(reference_mutex_);
+      const auto it = reference_masks_.find(k);
+      if (it == reference_masks_.end()) return;  // the dataset has no mask for this frame
+      ids = it->second;
+      reference_masks_.erase(it);
+    }
+    cv::Mat labels;
+    ids.convertTo(labels, CV_32S);
+    std::unordered_map<int, int> area;
+    for (int v = 0; v < labels.rows; ++v) {
+      const int* row = labels.ptr<int>(v);
+      for (int u = 0; u < labels.cols; ++u)
+        if (row[u] > 0) ++area[row[u]];
+    }
+    const double min_area = min_mask_area_pct_ / 100.0 * static_cast<double>(labels.total());
+    for (const auto& [label, pixels] : area)
+      if (pixels >= min_area) visible_.insert({k, label});
+    // Each run object is the reference object most of its points fall in (at least half of them); one run
+    // object per reference object, the one with the most points there.
+    std::map<int, std::pair<int, int>> best;  // reference id -> (votes, run id)
+    for (const ObjectObservation& obs : m.objects) {
+      std::map<int, int> votes;
+      for (const PointObservation& p : obs.points) {
+        if (!(p.p_camera.z() > 0.0)) continue;
+        const Vec2 uv = reference_camera_.project(p.p_camera);
+        const int u = static_cast<int>(uv.x()), v = static_cast<int>(uv.y());
+        if (u < 0 || v < 0 || u >= labels.cols || v >= labels.rows) continue;
+        if (const int label = labels.at<int>(v, u); label > 0) ++votes[label];
+      }
+      const auto top = std::max_element(votes.begin(), votes.end(),
+                                        [](const auto& a, const auto& b) { return a.second < b.second; });
+      if (top == votes.end() || 2 * top->second < static_cast<int>(obs.points.size())) continue;
+      auto& slot = best[top->first];
+      if (top->second > slot.first) slot = {top->second, obs.object_id};
+    }
+    for (const auto& [reference_id, choice] : best) (*run_object_ids_)[{k, reference_id}] = choice.second;
+  }
   void setLatency(std::vector<StageLatencySummary> latency) { s_.latency = std::move(latency); }
 
   ImageRunSummary summary(double read_s) {
@@ -83,6 +145,11 @@ class FrontendRecorder {
   Sequence* seq_;
   const Clock::time_point start_ = Clock::now();
   std::set<std::pair<int, int>> visible_;  // (frame, mask label) large enough to be an object
+  PinholeCamera reference_camera_;
+  double min_mask_area_pct_ = 0.0;
+  std::mutex reference_mutex_;
+  std::map<int, cv::Mat> reference_masks_;  // frames read but not yet through the front-end
+  std::optional<std::map<std::pair<int, int>, int>> run_object_ids_;
   ImageRunSummary s_;
   std::vector<double> fb_medians_;
   double frontend_ms_ = 0.0;
@@ -102,6 +169,15 @@ Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, 
   seq.frame_rate_hz = dataset.frameRateHz();
   std::mutex progress_mutex;
   FrontendRecorder recorder(frames, progress, &progress_mutex, frame_log, &seq);
+  if (config.masks.source != MaskSourceKind::kDataset && dataset.groundTruth() && dataset.hasMasks())
+    recorder.useReferenceMasks(dataset.camera(), config.frontend.min_mask_area_pct);
+  // Reads frame k and puts the configured masks on it (keeping the dataset's own when the recorder wants them).
+  const auto read = [&](int k) {
+    ImageFrame frame = dataset.read(k);
+    if (recorder.usesReferenceMasks() && !frame.instance_ids.empty()) recorder.keepReferenceMask(k, frame.instance_ids);
+    ApplyMaskSource(config.masks, dataset.camera(), frame);
+    return frame;
+  };
   double read_s = 0.0;
 
   if (ours) {
@@ -125,8 +201,7 @@ Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, 
     StagedPipeline pipeline(config, dataset.camera(), dataset.frameRateHz(), kQueueCapacity, callbacks, stream);
     for (int k = 0; k < frames; ++k) {
       const int64_t received_ns = SteadyClockNs();
-      ImageFrame frame = dataset.read(k);
-      ApplyMaskSource(config.masks, dataset.camera(), frame);
+      ImageFrame frame = read(k);
       frame.timing.received_ns = received_ns;
       frame.timing.assembled_ns = SteadyClockNs();
       read_s += 1e-9 * static_cast<double>(frame.timing.assembled_ns - received_ns);
@@ -140,8 +215,7 @@ Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, 
     ImageFrontend frontend(frontend_params, dataset.camera());
     for (int k = 0; k < frames; ++k) {
       const auto t0 = Clock::now();
-      ImageFrame frame = dataset.read(k);
-      ApplyMaskSource(config.masks, dataset.camera(), frame);
+      ImageFrame frame = read(k);
       const auto t1 = Clock::now();
       const FrameMeasurement m = frontend.process(frame);
       read_s += std::chrono::duration<double>(t1 - t0).count();
@@ -154,6 +228,7 @@ Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, 
     s.has_ground_truth = true;
     seq.gt = ToGroundTruth(*dataset.groundTruth(), frames, config.frontend.object_max_distance_m,
                            [&](int k, int id) { return recorder.visible(k, id); });
+    seq.gt.run_object_ids = recorder.runObjectIds();
   }
   if (summary) *summary = s;
   return seq;
