@@ -1,4 +1,4 @@
-// Reading, one thread: milliseconds per frame to read a dataset's frames (decode the images, depth, masks,
+// Reading: milliseconds per frame to read a dataset's frames (decode the images, depth, masks,
 // flow and LiDAR scan: ImageDataset::read) and, where the configuration makes masks from the LiDAR, the
 // mask source's time on top (pipeline/mask_source.h); with --file, the time to parse one text mask
 // (VDO-SLAM's semantic/*.txt), flow field (.flo) or PNG alone.
@@ -85,7 +85,7 @@ int main(int argc, char** argv) {
       }
     }
     using dslam::bench::Percentile;
-    std::printf("%s (%s layout, %dx%d), %d frames x %d, one thread: read %.1f ms a frame (median; p90 %.1f)",
+    std::printf("%s (%s layout, %dx%d), %d frames x %d, read %.1f ms a frame (median; p90 %.1f)",
                 argv[1], data.layout().c_str(), data.camera().width, data.camera().height, frames, repeats,
                 Percentile(read_ms, 0.5), Percentile(read_ms, 0.9));
     if (masks_from_lidar)
