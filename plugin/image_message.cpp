@@ -43,7 +43,9 @@ int TypeOf(const std::string& encoding, ImageRole role) {
       if (encoding == "16UC1" || encoding == "mono16") return CV_16UC1;
       return -1;
     case ImageRole::kMask:
-      return encoding == "16UC1" || encoding == "mono16" ? CV_16UC1 : -1;
+      if (encoding == "16UC1" || encoding == "mono16") return CV_16UC1;
+      if (encoding == "32SC1") return CV_32SC1;  // ids above 65535
+      return -1;
   }
   return -1;
 }
@@ -91,6 +93,19 @@ DecodedImage DecodeImage(const sensor_msgs::msg::Image& msg, ImageRole role) {
   return out;
 }
 
+cv::Mat MaskForTransport(const cv::Mat& instance_ids) {
+  double max_id = 0.0;
+  cv::minMaxLoc(instance_ids, nullptr, &max_id);
+  cv::Mat ids;
+  if (max_id > 65535.0) {
+    instance_ids.convertTo(ids, CV_32S);
+    ids = cv::max(ids, 0);
+  } else {
+    instance_ids.convertTo(ids, CV_16U);  // saturates negatives to 0
+  }
+  return ids;
+}
+
 sensor_msgs::msg::Image EncodeImage(const cv::Mat& image, ImageRole role, int64_t t_ns, const std::string& frame_id) {
   sensor_msgs::msg::Image msg;
   msg.header().stamp(NsToStamp(t_ns));
@@ -100,7 +115,7 @@ sensor_msgs::msg::Image EncodeImage(const cv::Mat& image, ImageRole role, int64_
   switch (role) {
     case ImageRole::kColour: msg.encoding(image.channels() == 3 ? "bgr8" : "mono8"); break;
     case ImageRole::kDepth: msg.encoding("32FC1"); break;
-    case ImageRole::kMask: msg.encoding("16UC1"); break;
+    case ImageRole::kMask: msg.encoding(image.depth() == CV_32S ? "32SC1" : "16UC1"); break;
   }
   msg.is_bigendian(0);
   msg.step(static_cast<uint32_t>(image.cols * image.elemSize()));

@@ -23,14 +23,19 @@ builtin_interfaces::msg::Time NsToStamp(int64_t t_ns);
 enum class ImageRole { kColour, kDepth, kMask };
 
 struct DecodedImage {
-  cv::Mat image;      // colour: CV_8UC3 BGR or CV_8UC1; depth: CV_32FC1 metres; mask: CV_16UC1 ids
+  cv::Mat image;      // colour: CV_8UC3 BGR or CV_8UC1; depth: CV_32FC1 metres; mask: CV_16UC1 or CV_32SC1 ids
   std::string error;  // empty when decoded
 };
 
 // Colour: bgr8, rgb8 (converted to BGR), mono8. Depth: 32FC1 (metres) or 16UC1 / mono16 (millimetres).
 // Mask: 16UC1 / mono16 (instance ids, 0 = background).
 DecodedImage DecodeImage(const sensor_msgs::msg::Image& msg, ImageRole role);
-// The inverse: bgr8 / mono8 colour, 32FC1 depth (metres), 16UC1 mask.
+// Instance ids as a mask message carries them: 16-bit when every id fits (what a segmenter's driver sends),
+// else 32-bit, so that no id is saturated into another; negative ids (background) become 0.
+cv::Mat MaskForTransport(const cv::Mat& instance_ids);
+
+// The inverse: bgr8 / mono8 colour, 32FC1 depth (metres), 16UC1 mask (32SC1 for a CV_32S mask: ids
+// above 65535 kept).
 sensor_msgs::msg::Image EncodeImage(const cv::Mat& image, ImageRole role, int64_t t_ns, const std::string& frame_id);
 
 // nav_msgs/Odometry -> a stamped camera pose. The increment noise comes from the twist covariance's

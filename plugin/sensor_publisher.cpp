@@ -61,9 +61,7 @@ void SensorPublisher::publish(const ImageFrame& frame, const SE3& T_odom_camera,
   impl_->colour->write(&colour);
   impl_->depth->write(&depth);
   if (!frame.instance_ids.empty()) {
-    cv::Mat ids;
-    frame.instance_ids.convertTo(ids, CV_16U);
-    sensor_msgs::msg::Image mask = EncodeImage(ids, ImageRole::kMask, frame.t_ns, "camera");
+    sensor_msgs::msg::Image mask = EncodeImage(MaskForTransport(frame.instance_ids), ImageRole::kMask, frame.t_ns, "camera");
     impl_->mask->write(&mask);
   }
   if (impl_->lidar && scan_lidar) {

@@ -28,6 +28,29 @@ TEST(ImageMessage, RoundTripsColourDepthAndMasks) {
   EXPECT_EQ(StampToNs(NsToStamp(123456789012LL)), 123456789012LL);
 }
 
+TEST(ImageMessage, MaskIdsAbove65535TravelAsThirtyTwoBitsAndStayApart) {
+  cv::Mat ids(4, 6, CV_32SC1, cv::Scalar(0));
+  ids.at<int32_t>(0, 0) = 65535, ids.at<int32_t>(1, 1) = 70000, ids.at<int32_t>(2, 2) = 70001;
+  ids.at<int32_t>(3, 3) = -1;  // background
+  const cv::Mat sent = MaskForTransport(ids);
+  EXPECT_EQ(sent.type(), CV_32SC1);
+  const sensor_msgs::msg::Image msg = EncodeImage(sent, ImageRole::kMask, 1, "camera");
+  EXPECT_EQ(msg.encoding(), "32SC1");
+  const auto m = DecodeImage(msg, ImageRole::kMask);
+  ASSERT_EQ(m.error, "");
+  EXPECT_EQ(m.image.at<int32_t>(0, 0), 65535);
+  EXPECT_EQ(m.image.at<int32_t>(1, 1), 70000);
+  EXPECT_EQ(m.image.at<int32_t>(2, 2), 70001);
+  EXPECT_EQ(m.image.at<int32_t>(3, 3), 0);
+  // Ids that fit go as 16 bits, as a segmenter's driver sends them.
+  cv::Mat small(2, 2, CV_32SC1, cv::Scalar(7));
+  small.at<int32_t>(0, 1) = -3;
+  const cv::Mat sent_small = MaskForTransport(small);
+  EXPECT_EQ(sent_small.type(), CV_16UC1);
+  EXPECT_EQ(sent_small.at<uint16_t>(0, 1), 0);
+  EXPECT_EQ(EncodeImage(sent_small, ImageRole::kMask, 1, "camera").encoding(), "16UC1");
+}
+
 TEST(ImageMessage, ConvertsRgbAndMillimetreDepth) {
   cv::Mat rgb(2, 2, CV_8UC3, cv::Scalar(10, 20, 30));
   auto msg = EncodeImage(rgb, ImageRole::kColour, 1, "camera");
