@@ -13,6 +13,7 @@
 
 #include "data/dense_maps.h"
 #include "data/odometry_file.h"
+#include "data/png_check.h"
 #include "data/velodyne.h"
 
 namespace dslam {
@@ -72,7 +73,9 @@ std::vector<std::string> Matching(const std::vector<std::string>& images, const 
 
 std::string Size(const cv::Mat& m) { return std::to_string(m.cols) + "x" + std::to_string(m.rows); }
 
-cv::Mat ReadImage(const std::string& path, int flags) {
+cv::Mat ReadImage(const std::string& path, int flags, int64_t max_pixels) {
+  if (const std::string problem = FindPngProblem(path, max_pixels); !problem.empty())
+    throw std::runtime_error("cannot read image " + path + ": " + problem);
   cv::Mat image = cv::imread(path, flags);
   if (image.empty()) throw std::runtime_error("cannot read image " + path + " (missing, truncated or not an image)");
   return image;
@@ -87,6 +90,8 @@ void ImageDatasetOptions::validate() const {
   if (lidar_fill_radius_px < 0 || lidar_fill_radius_px > 50)
     throw std::invalid_argument("dataset lidar_fill_radius_px must be in 0..50");
   if (!(frame_rate_hz > 0.0)) throw std::invalid_argument("frame rate must be positive");
+  if (max_image_pixels < 1 || max_image_pixels > 1'000'000'000)
+    throw std::invalid_argument("dataset max_image_pixels must be in 1..1e9");
   stereo.validate();
 }
 
@@ -209,7 +214,7 @@ ImageDataset::ImageDataset(const std::string& dir, const ImageDatasetOptions& op
   // Camera: the left colour camera (P2) when it is given, else P0; the size from the first image.
   const auto& P = calib->P[2](0, 0) > 0.0 ? calib->P[2] : calib->P[0];
   camera_.fx = P(0, 0), camera_.fy = P(1, 1), camera_.cx = P(0, 2), camera_.cy = P(1, 2);
-  const cv::Mat first = ReadImage(images_.front(), cv::IMREAD_UNCHANGED);
+  const cv::Mat first = ReadImage(images_.front(), cv::IMREAD_UNCHANGED, options_.max_image_pixels);
   camera_.width = first.cols, camera_.height = first.rows;
   baseline_m_ = (calib->P[2](0, 3) - calib->P[3](0, 3)) / camera_.fx;
   if ((depth_kind_ == DepthKind::kStereo || depth_kind_ == DepthKind::kPngDisparity) && !(baseline_m_ > 0.0))
@@ -234,14 +239,14 @@ cv::Mat ImageDataset::readDepth(int k, const cv::Mat& left, ImageFrame* frame) c
   switch (depth_kind_) {
     case DepthKind::kPngDepthMm:
     case DepthKind::kPngDisparity: {
-      const cv::Mat raw = ReadImage(depths_[k], cv::IMREAD_UNCHANGED);
+      const cv::Mat raw = ReadImage(depths_[k], cv::IMREAD_UNCHANGED, options_.max_image_pixels);
       if (raw.channels() != 1 || raw.depth() != CV_16U)
         throw std::runtime_error(depths_[k] + ": depth PNG must be 16-bit single channel");
       return depth_kind_ == DepthKind::kPngDepthMm ? DepthFromScaledImage(raw, 1000.0)
                                                    : DepthFromDisparity(raw, 256.0, camera_.fx * baseline_m_);
     }
     case DepthKind::kStereo: {
-      const cv::Mat right = ReadImage(rights_[k], cv::IMREAD_COLOR);
+      const cv::Mat right = ReadImage(rights_[k], cv::IMREAD_COLOR, options_.max_image_pixels);
       if (right.size() != left.size())
         throw std::runtime_error(rights_[k] + " is " + Size(right) + " but the left image is " + Size(left));
       return DepthFromStereo(left, right, camera_.fx, baseline_m_, options_.stereo);
@@ -260,7 +265,7 @@ cv::Mat ImageDataset::readMask(int k) const {
   switch (mask_kind_) {
     case MaskKind::kNone: return {};
     case MaskKind::kPng16: {
-      cv::Mat mask = ReadImage(masks_[k], cv::IMREAD_UNCHANGED);
+      cv::Mat mask = ReadImage(masks_[k], cv::IMREAD_UNCHANGED, options_.max_image_pixels);
       if (mask.channels() != 1 || (mask.depth() != CV_16U && mask.depth() != CV_8U))
         throw std::runtime_error(masks_[k] + ": instance mask PNG must be 8- or 16-bit single channel");
       if (mask.depth() == CV_8U) mask.convertTo(mask, CV_16U);
@@ -299,7 +304,7 @@ ImageFrame ImageDataset::read(int k) const {
     out.second = readMask(k);
     return out;
   });
-  frame.image = ReadImage(images_[k], cv::IMREAD_COLOR);
+  frame.image = ReadImage(images_[k], cv::IMREAD_COLOR, options_.max_image_pixels);
   if (frame.image.cols != camera_.width || frame.image.rows != camera_.height)
     throw std::runtime_error(images_[k] + " is " + Size(frame.image) + " but the sequence's images are " +
                              std::to_string(camera_.width) + "x" + std::to_string(camera_.height));

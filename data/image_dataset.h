@@ -32,6 +32,8 @@ struct ImageDatasetOptions {
   int lidar_fill_radius_px = 2;           // sparse LiDAR depth spread to neighbours within this radius
   bool read_flow = true;                  // read flow/*.flo when the folder has it
   StereoParams stereo;
+  // Images (PNG) with more pixels are refused from their header, before any is decoded.
+  int64_t max_image_pixels = 50'000'000;
   double frame_rate_hz = 10.0;            // when times.txt is absent
   void validate() const;
 };

@@ -7,7 +7,6 @@
 #include <functional>
 #include <map>
 #include <set>
-#include <sstream>
 #include <stdexcept>
 
 namespace dslam {
@@ -155,7 +154,8 @@ const Schema& GetSchema() {
         {"stereo_wls_sigma_color", Field<double>([](RunConfig& c) -> double& { return c.dataset.stereo.wls_sigma_color; })},
         {"stereo_wls_min_confidence",
          Field<double>([](RunConfig& c) -> double& { return c.dataset.stereo.wls_min_confidence; })},
-        {"frame_rate_hz", Field<double>([](RunConfig& c) -> double& { return c.dataset.frame_rate_hz; })}}},
+        {"frame_rate_hz", Field<double>([](RunConfig& c) -> double& { return c.dataset.frame_rate_hz; })},
+        {"max_image_pixels", Field<int64_t>([](RunConfig& c) -> int64_t& { return c.dataset.max_image_pixels; })}}},
       {"masks",
        {{"source",
          {[](const YAML::Node& n, RunConfig& c) { c.masks.source = ParseMaskSource(n.as<std::string>()); },
@@ -232,11 +232,18 @@ RunConfig ParseRunConfig(const std::string& yaml_text, const std::string& source
 }
 
 RunConfig LoadRunConfig(const std::string& path, const RunConfig& base) {
-  std::ifstream in(path);
+  // A configuration is a few kilobytes: read at most this much, so that a wrong path (a device, a log) is
+  // refused at once rather than read until memory runs out.
+  constexpr size_t kMaxConfigBytes = 4 << 20;
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw std::invalid_argument("cannot open configuration file " + path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return ParseRunConfig(text.str(), path, base);
+  std::string text(kMaxConfigBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<size_t>(in.gcount()));
+  if (text.size() > kMaxConfigBytes)
+    throw std::invalid_argument("configuration file " + path + " is over " + std::to_string(kMaxConfigBytes >> 20) +
+                                " MB: not a configuration");
+  return ParseRunConfig(text, path, base);
 }
 
 std::string RunConfigToYaml(const RunConfig& config) {

@@ -1,12 +1,16 @@
 // The command line's own errors: exit status 2 (README) with a line that names the problem.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "support/child_process.h"
+#include "support/rendered_city.h"
 #include "support/temp_paths.h"
 
 namespace dslam {
@@ -81,6 +85,31 @@ TEST(Cli, BadCommandsAndOptionsExitWithStatus2AndSaySo) {
   o = Dslam({"sim", "--help"});
   EXPECT_EQ(o.status, 0) << o.output;
   EXPECT_NE(o.output.find("--scenario"), std::string::npos);
+}
+
+TEST(Cli, ACutOrOversizedImageIsOneLineOfOursNamingTheFile) {
+  // A copy of the 12-frame city (rendered once per ctest run) with frame 2's colour image cut short.
+  const std::string city = test::RenderedCity("cli_city_12", 12, 1);
+  const std::string dir = test::TempPath("cli_cut_png");
+  std::filesystem::copy(city, dir, std::filesystem::copy_options::recursive);
+  const std::string image = dir + "/image_0/000002.png";
+  std::filesystem::resize_file(image, std::filesystem::file_size(image) / 2);
+  Outcome o = Dslam({"run", "--dataset", dir, "--frames", "4", "--methods", "ours", "--no-figures", "--quiet",
+                     "--out", test::TempPath("cli_cut_png_out")});
+  EXPECT_EQ(o.status, 2) << o.output;
+  EXPECT_EQ(o.output, "dslam run: error: cannot read image " + image + ": " +
+                          o.output.substr(o.output.find("PNG cut off")));  // nothing before ours
+  EXPECT_EQ(std::count(o.output.begin(), o.output.end(), '\n'), 1) << o.output;
+  EXPECT_EQ(o.output.find("libpng"), std::string::npos) << o.output;
+
+  // An image bigger than dataset.max_image_pixels is refused from its header.
+  const std::string config = test::TempPath("cli_small_images.yaml");
+  std::ofstream(config) << "dataset: {max_image_pixels: 1000}\n";
+  o = Dslam({"run", "--dataset", city, "--frames", "2", "--methods", "ours", "--no-figures", "--quiet", "--config",
+             config, "--out", test::TempPath("cli_small_images_out")});
+  EXPECT_EQ(o.status, 2) << o.output;
+  EXPECT_NE(o.output.find("more than the 1000 allowed (dataset.max_image_pixels)"), std::string::npos) << o.output;
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

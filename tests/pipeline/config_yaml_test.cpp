@@ -136,5 +136,16 @@ TEST(ConfigYaml, MissingFileIsAnError) {
   EXPECT_THROW(LoadRunConfig("/nonexistent/dslam.yaml"), std::invalid_argument);
 }
 
+TEST(ConfigYaml, AFileOfMegabytesIsRefusedWithoutReadingItAll) {
+  try {
+    LoadRunConfig("/dev/zero");  // endless: read only up to the bound
+    FAIL() << "accepted /dev/zero";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/zero is over 4 MB"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ParseRunConfig("dataset: {max_image_pixels: 0}\n"), std::invalid_argument);
+  EXPECT_EQ(ParseRunConfig("dataset: {max_image_pixels: 1000}\n").dataset.max_image_pixels, 1000);
+}
+
 }  // namespace
 }  // namespace dslam
