@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <chrono>
-#include <map>
 #include <mutex>
+#include <optional>
 #include <set>
-#include <unordered_map>
 
+#include "pipeline/reference_objects.h"
 #include "pipeline/staged_pipeline.h"
 
 namespace dslam {
@@ -21,30 +21,18 @@ class FrontendRecorder {
                    Sequence* seq)
       : frames_(frames), progress_(progress), progress_mutex_(progress_mutex), frame_log_(frame_log), seq_(seq) {}
 
-  // With masks made by the run (from the LiDAR, say) on a dataset that has its own: the dataset's mask of
-  // each frame, kept until the frame's measurement arrives, tells which ground-truth object each of the
-  // run's objects is (where its points fall) and which objects are large enough to count.
-  void useReferenceMasks(const PinholeCamera& camera, double min_mask_area_pct) {
-    reference_camera_ = camera;
-    min_mask_area_pct_ = min_mask_area_pct;
-    run_object_ids_.emplace();
-  }
-  bool usesReferenceMasks() const { return run_object_ids_.has_value(); }
-  void keepReferenceMask(int frame, cv::Mat ids) {
-    std::lock_guard<std::mutex> lock(reference_mutex_);
-    reference_masks_[frame] = std::move(ids);
-  }
-  std::optional<std::map<std::pair<int, int>, int>> runObjectIds() const { return run_object_ids_; }
+  // With masks made by the run on a dataset that has its own: the objects are matched to the dataset's
+  // (pipeline/reference_objects.h), which also say which objects are large enough to count.
+  void useReferenceMasks(ReferenceObjectMatcher* matcher) { reference_ = matcher; }
 
   void record(const FrameMeasurement& m, const FrontendFrameStats& st, double frontend_ms) {
     const int k = static_cast<int>(seq_->frames.size());
     seq_->frames.push_back(m);
     frontend_ms_ += frontend_ms;
-    if (run_object_ids_) {
-      matchToReference(k, m);
-    } else {
+    if (reference_)
+      reference_->match(k, m);
+    else
       for (int label : st.mask_labels) visible_.insert({k, label});
-    }
     if (frame_log_) {
       if (k == 0)
         *frame_log_ << "frame,object_id,flowed,tracked,added,measured,motion_rejected,pnp_inliers,median_fb_px,"
@@ -75,48 +63,10 @@ class FrontendRecorder {
     }
   }
 
-  bool visible(int k, int label) const { return visible_.count({k, label}) > 0; }
-
-  void matchToReference(int k, const FrameMeasurement& m) {
-    cv::Mat ids;
-    {
-      std::lock_guard<std::mutex> lock(reference_mutex_);
-      const auto it = reference_masks_.find(k);
-      if (it == reference_masks_.end()) return;  // the dataset has no mask for this frame
-      ids = it->second;
-      reference_masks_.erase(it);
-    }
-    cv::Mat labels;
-    ids.convertTo(labels, CV_32S);
-    std::unordered_map<int, int> area;
-    for (int v = 0; v < labels.rows; ++v) {
-      const int* row = labels.ptr<int>(v);
-      for (int u = 0; u < labels.cols; ++u)
-        if (row[u] > 0) ++area[row[u]];
-    }
-    const double min_area = min_mask_area_pct_ / 100.0 * static_cast<double>(labels.total());
-    for (const auto& [label, pixels] : area)
-      if (pixels >= min_area) visible_.insert({k, label});
-    // Each run object is the reference object most of its points fall in (at least half of them); one run
-    // object per reference object, the one with the most points there.
-    std::map<int, std::pair<int, int>> best;  // reference id -> (votes, run id)
-    for (const ObjectObservation& obs : m.objects) {
-      std::map<int, int> votes;
-      for (const PointObservation& p : obs.points) {
-        if (!(p.p_camera.z() > 0.0)) continue;
-        const Vec2 uv = reference_camera_.project(p.p_camera);
-        const int u = static_cast<int>(uv.x()), v = static_cast<int>(uv.y());
-        if (u < 0 || v < 0 || u >= labels.cols || v >= labels.rows) continue;
-        if (const int label = labels.at<int>(v, u); label > 0) ++votes[label];
-      }
-      const auto top = std::max_element(votes.begin(), votes.end(),
-                                        [](const auto& a, const auto& b) { return a.second < b.second; });
-      if (top == votes.end() || 2 * top->second < static_cast<int>(obs.points.size())) continue;
-      auto& slot = best[top->first];
-      if (top->second > slot.first) slot = {top->second, obs.object_id};
-    }
-    for (const auto& [reference_id, choice] : best) (*run_object_ids_)[{k, reference_id}] = choice.second;
+  bool visible(int k, int label) const {
+    return reference_ ? reference_->visible(k, label) : visible_.count({k, label}) > 0;
   }
+
   void setLatency(std::vector<StageLatencySummary> latency) { s_.latency = std::move(latency); }
 
   ImageRunSummary summary(double read_s) {
@@ -145,11 +95,7 @@ class FrontendRecorder {
   Sequence* seq_;
   const Clock::time_point start_ = Clock::now();
   std::set<std::pair<int, int>> visible_;  // (frame, mask label) large enough to be an object
-  PinholeCamera reference_camera_;
-  double min_mask_area_pct_ = 0.0;
-  std::mutex reference_mutex_;
-  std::map<int, cv::Mat> reference_masks_;  // frames read but not yet through the front-end
-  std::optional<std::map<std::pair<int, int>, int>> run_object_ids_;
+  ReferenceObjectMatcher* reference_ = nullptr;
   ImageRunSummary s_;
   std::vector<double> fb_medians_;
   double frontend_ms_ = 0.0;
@@ -169,12 +115,15 @@ Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, 
   seq.frame_rate_hz = dataset.frameRateHz();
   std::mutex progress_mutex;
   FrontendRecorder recorder(frames, progress, &progress_mutex, frame_log, &seq);
-  if (config.masks.source != MaskSourceKind::kDataset && dataset.groundTruth() && dataset.hasMasks())
-    recorder.useReferenceMasks(dataset.camera(), config.frontend.min_mask_area_pct);
-  // Reads frame k and puts the configured masks on it (keeping the dataset's own when the recorder wants them).
+  std::optional<ReferenceObjectMatcher> reference;
+  if (config.masks.source != MaskSourceKind::kDataset && dataset.groundTruth() && dataset.hasMasks()) {
+    reference.emplace(dataset.camera(), config.frontend.min_mask_area_pct);
+    recorder.useReferenceMasks(&*reference);
+  }
+  // Reads frame k and puts the configured masks on it (keeping the dataset's own when they are the reference).
   const auto read = [&](int k) {
     ImageFrame frame = dataset.read(k);
-    if (recorder.usesReferenceMasks() && !frame.instance_ids.empty()) recorder.keepReferenceMask(k, frame.instance_ids);
+    if (reference && !frame.instance_ids.empty()) reference->keep(k, frame.instance_ids);
     ApplyMaskSource(config.masks, dataset.camera(), frame);
     return frame;
   };
@@ -228,7 +177,7 @@ Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, 
     s.has_ground_truth = true;
     seq.gt = ToGroundTruth(*dataset.groundTruth(), frames, config.frontend.object_max_distance_m,
                            [&](int k, int id) { return recorder.visible(k, id); });
-    seq.gt.run_object_ids = recorder.runObjectIds();
+    if (reference) seq.gt.run_object_ids = reference->runObjectIds();
   }
   if (summary) *summary = s;
   return seq;
