@@ -50,7 +50,9 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
       out << "Dataset " << options.dataset_dir << " (" << dataset.layout() << "): " << dataset.size() << " frames "
           << dataset.camera().width << "x" << dataset.camera().height << ", masks " << (dataset.hasMasks() ? "yes" : "no")
           << ", odometry " << (dataset.hasOdometry() ? "yes" : "no") << ", ground truth "
-          << (dataset.groundTruth() ? "yes" : "no") << "; flow " << ToString(config.frontend.flow.method) << std::endl;
+          << (dataset.groundTruth() ? "yes" : "no") << "; flow " << ToString(config.frontend.flow.method) << "; "
+          << dataset.frameRateHz() << " Hz (" << dataset.frameRateSource() << ")" << std::endl;
+    for (const std::string& warning : dataset.warnings()) err << "dslam run: warning: " << warning << std::endl;
 
     ImageRunSummary summary;
     const std::string log_path = options.out_dir + "/frontend.csv";
@@ -81,6 +83,8 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
     info["dataset"] = options.dataset_dir;
     info["layout"] = dataset.layout();
     info["frames"] = seq.frames.size();
+    info["frame_rate_hz"] = dataset.frameRateHz();  // what speeds were measured at, and from where
+    info["frame_rate_source"] = dataset.frameRateSource();
     info["flow_method"] = ToString(config.frontend.flow.method);
     info["object_category"] = options.category;
     info["object_max_distance_m"] = config.frontend.object_max_distance_m;

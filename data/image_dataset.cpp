@@ -89,7 +89,8 @@ void ImageDatasetOptions::validate() const {
                                 "' (expected depth_mm, disparity_x256 or stereo)");
   if (lidar_fill_radius_px < 0 || lidar_fill_radius_px > 50)
     throw std::invalid_argument("dataset lidar_fill_radius_px must be in 0..50");
-  if (!(frame_rate_hz > 0.0)) throw std::invalid_argument("frame rate must be positive");
+  if (!(frame_rate_hz >= 0.1 && frame_rate_hz <= 1000.0))
+    throw std::invalid_argument("dataset frame_rate_hz must be in 0.1..1000");
   if (max_image_pixels < 1 || max_image_pixels > 1'000'000'000)
     throw std::invalid_argument("dataset max_image_pixels must be in 1..1e9");
   stereo.validate();
@@ -216,19 +217,54 @@ ImageDataset::ImageDataset(const std::string& dir, const ImageDatasetOptions& op
   camera_.fx = P(0, 0), camera_.fy = P(1, 1), camera_.cx = P(0, 2), camera_.cy = P(1, 2);
   const cv::Mat first = ReadImage(images_.front(), cv::IMREAD_UNCHANGED, options_.max_image_pixels);
   camera_.width = first.cols, camera_.height = first.rows;
+  // Focal lengths in normalised units (0.58 for 721 px) parse, and then every depth and motion is wrong: a
+  // pinhole camera's field of view across its image is between about 1 and 170 degrees.
+  for (const double f : {camera_.fx, camera_.fy})
+    if (!(f >= 0.05 * camera_.width && f <= 50.0 * camera_.width))
+      throw std::runtime_error(dir + ": calibration focal length " + std::to_string(f) + " px is implausible for " +
+                               std::to_string(camera_.width) + " px wide images (expected " +
+                               std::to_string(0.05 * camera_.width) + " to " + std::to_string(50.0 * camera_.width) +
+                               " px; a calibration in normalised units?)");
   baseline_m_ = (calib->P[2](0, 3) - calib->P[3](0, 3)) / camera_.fx;
   if ((depth_kind_ == DepthKind::kStereo || depth_kind_ == DepthKind::kPngDisparity) && !(baseline_m_ > 0.0))
     throw std::runtime_error(dir + ": depth from disparity needs a stereo calibration (P2 and P3 with a baseline)");
 
-  if (fs::is_regular_file(root / "times.txt")) {
-    const auto times = ReadTimes((root / "times.txt").string());
+  frame_rate_hz_ = options_.frame_rate_hz;
+  if (fs::is_regular_file(root / "times.txt") && !options_.override_times) {
+    const std::string path = (root / "times.txt").string();
+    const auto times = ReadTimes(path);
     if (times.size() < images_.size())
-      throw std::runtime_error((root / "times.txt").string() + ": " + std::to_string(times.size()) +
-                               " timestamps for " + std::to_string(images_.size()) + " images");
+      throw std::runtime_error(path + ": " + std::to_string(times.size()) + " timestamps for " +
+                               std::to_string(images_.size()) + " images");
     for (size_t k = 0; k < images_.size(); ++k) t_ns_.push_back(static_cast<int64_t>(std::llround(times[k] * 1e9)));
+    if (images_.size() >= 2) {
+      // The rate speeds are measured at is the dataset's own: its median step. A step far from it (a dropped
+      // frame, a stall) is possible, and said.
+      std::vector<double> steps;
+      for (size_t k = 1; k < images_.size(); ++k) steps.push_back(times[k] - times[k - 1]);
+      std::vector<double> sorted = steps;
+      // The lower median: with an even count it leans to the nominal step, not to a stall's.
+      const size_t mid = (sorted.size() - 1) / 2;
+      std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(mid), sorted.end());
+      const double median_step = sorted[mid];
+      frame_rate_hz_ = 1.0 / median_step;
+      frame_rate_source_ = "times.txt";
+      if (!(frame_rate_hz_ >= 0.1 && frame_rate_hz_ <= 1000.0))
+        throw std::runtime_error(path + ": its median step of " + std::to_string(median_step) +
+                                 " s is no camera's frame rate (0.1 to 1000 Hz); times in other units?");
+      int uneven = 0;
+      for (size_t k = 0; k < steps.size(); ++k) {
+        if (std::abs(steps[k] - median_step) <= 0.25 * median_step) continue;
+        if (uneven++ == 0)
+          warnings_.push_back(path + ":" + std::to_string(k + 2) + ": a step of " + std::to_string(steps[k]) +
+                              " s where the others are about " + std::to_string(median_step) + " s");
+      }
+      if (uneven > 1) warnings_.back() += " (and " + std::to_string(uneven - 1) + " more such steps)";
+    }
   } else {
     for (size_t k = 0; k < images_.size(); ++k)
       t_ns_.push_back(static_cast<int64_t>(std::llround(k * 1e9 / options_.frame_rate_hz)));
+    if (fs::is_regular_file(root / "times.txt")) frame_rate_source_ = "dataset.frame_rate_hz (override_times)";
   }
   if (ground_truth_ && static_cast<int>(ground_truth_->T_world_camera.size()) < size())
     throw std::runtime_error(dir + ": ground truth has " + std::to_string(ground_truth_->T_world_camera.size()) +

@@ -34,7 +34,11 @@ struct ImageDatasetOptions {
   StereoParams stereo;
   // Images (PNG) with more pixels are refused from their header, before any is decoded.
   int64_t max_image_pixels = 50'000'000;
-  double frame_rate_hz = 10.0;            // when times.txt is absent
+  // The frame rate speeds are measured at: the dataset's own times (times.txt: the median step) when it has
+  // them, else frame_rate_hz. override_times: frame k is at k / frame_rate_hz whatever times.txt says (for
+  // datasets whose times are known wrong, e.g. VDO-SLAM's KITTI layout, whose steps are 0.05 s at 10 Hz).
+  double frame_rate_hz = 10.0;
+  bool override_times = false;
   void validate() const;
 };
 
@@ -48,7 +52,11 @@ class ImageDataset {
   int size() const { return static_cast<int>(images_.size()); }
   const PinholeCamera& camera() const { return camera_; }
   int64_t stampNs(int k) const { return t_ns_.at(static_cast<size_t>(k)); }  // frame k's time stamp
-  double frameRateHz() const { return options_.frame_rate_hz; }
+  double frameRateHz() const { return frame_rate_hz_; }
+  // Where frameRateHz() comes from ("times.txt" or "dataset.frame_rate_hz"), and what was suspicious but
+  // possible in the dataset's files (e.g. a step of times.txt far from the others), each naming file and line.
+  const std::string& frameRateSource() const { return frame_rate_source_; }
+  const std::vector<std::string>& warnings() const { return warnings_; }
   bool hasMasks() const { return mask_kind_ != MaskKind::kNone; }
   bool hasOdometry() const { return !odometry_.empty(); }
   bool hasFlow() const { return !flows_.empty(); }
@@ -90,6 +98,9 @@ class ImageDataset {
   DepthKind depth_kind_ = DepthKind::kPngDepthMm;
   MaskKind mask_kind_ = MaskKind::kNone;
   std::vector<int64_t> t_ns_;
+  double frame_rate_hz_ = 10.0;
+  std::string frame_rate_source_ = "dataset.frame_rate_hz";
+  std::vector<std::string> warnings_;
   std::map<int, OdometryMeasurement> odometry_;
   struct LabelShape {
     double distance_m = 0.0;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <map>
+#include <utility>
 #include <set>
 #include <stdexcept>
 
@@ -164,6 +165,7 @@ std::vector<SE3> ReadPoseGt(const std::string& path) {
 
 std::vector<ObjectPoseRow> ReadObjectPoses(const std::string& path) {
   std::vector<ObjectPoseRow> rows;
+  std::map<std::pair<int, int>, int> line_of;  // (frame, object id) -> line: an object has one pose a frame
   ForEachRow(path, 10, 10, [&](const std::vector<std::string>& f, int line_no) {
     ObjectPoseRow row;
     row.frame = ParseInt(f[0], path, line_no, "frame");
@@ -175,6 +177,10 @@ std::vector<ObjectPoseRow> ReadObjectPoses(const std::string& path) {
     if (row.frame < 0 || row.object_id < 0) throw std::runtime_error(AtLine(path, line_no, "negative frame or object id"));
     if (row.bottom_centre_camera.norm() > kMaxPositionM)
       throw std::runtime_error(AtLine(path, line_no, "the position is more than 1e7 m from the camera"));
+    if (const auto [it, added] = line_of.emplace(std::make_pair(row.frame, row.object_id), line_no); !added)
+      throw std::runtime_error(AtLine(path, line_no, "object " + std::to_string(row.object_id) + " listed twice in frame " +
+                                                         std::to_string(row.frame) + " (first on line " +
+                                                         std::to_string(it->second) + ")"));
     rows.push_back(row);
   });
   return rows;
@@ -189,6 +195,8 @@ std::vector<double> ReadTimes(const std::string& path) {
     if (!(t >= 0.0 && t < kMaxSeconds))
       throw std::runtime_error(AtLine(path, line_no, "timestamp " + f[0] + " s is outside [0, 9.2e9) s"));
     if (!times.empty() && t < times.back()) throw std::runtime_error(AtLine(path, line_no, "time goes backwards"));
+    if (!times.empty() && t == times.back())
+      throw std::runtime_error(AtLine(path, line_no, "timestamp " + f[0] + " s repeats the previous line's"));
     times.push_back(t);
   });
   return times;

@@ -3,11 +3,13 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <functional>
 #include <map>
 #include <set>
 #include <stdexcept>
+#include <type_traits>
 
 namespace dslam {
 namespace {
@@ -19,7 +21,13 @@ struct Binding {
 
 template <typename T>
 Binding Field(std::function<T&(RunConfig&)> ref) {
-  return {[ref](const YAML::Node& n, RunConfig& c) { ref(c) = n.as<T>(); },
+  return {[ref](const YAML::Node& n, RunConfig& c) {
+            const T value = n.as<T>();
+            // .inf and .nan parse as numbers; no setting means either.
+            if constexpr (std::is_floating_point_v<T>)
+              if (!std::isfinite(value)) throw std::invalid_argument("'" + n.Scalar() + "' is not a finite number");
+            ref(c) = value;
+          },
           [ref](YAML::Emitter& e, const RunConfig& c) { e << ref(const_cast<RunConfig&>(c)); }};
 }
 
@@ -155,6 +163,7 @@ const Schema& GetSchema() {
         {"stereo_wls_min_confidence",
          Field<double>([](RunConfig& c) -> double& { return c.dataset.stereo.wls_min_confidence; })},
         {"frame_rate_hz", Field<double>([](RunConfig& c) -> double& { return c.dataset.frame_rate_hz; })},
+        {"override_times", Field<bool>([](RunConfig& c) -> bool& { return c.dataset.override_times; })},
         {"max_image_pixels", Field<int64_t>([](RunConfig& c) -> int64_t& { return c.dataset.max_image_pixels; })}}},
       {"masks",
        {{"source",

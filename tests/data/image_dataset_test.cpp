@@ -107,6 +107,45 @@ TEST(ImageDataset, NamesTheMissingCorruptOrMisfitFile) {
             std::string::npos);
 }
 
+TEST(ImageDataset, SpeedsAreMeasuredAtTheDatasetsOwnRateUnlessItsTimesAreOverridden) {
+  const std::string dir = MakeVdoDataset("vdo_rate");
+  EXPECT_DOUBLE_EQ(ImageDataset(dir, {}).frameRateHz(), 10.0);  // times.txt: 0.1 s steps
+  std::ofstream(dir + "/times.txt") << "0.0\n0.05\n0.1\n";     // a 20 Hz recording (or VDO-SLAM's KITTI times)
+  const ImageDataset own(dir, {});
+  EXPECT_NEAR(own.frameRateHz(), 20.0, 1e-9);
+  EXPECT_EQ(own.frameRateSource(), "times.txt");
+  EXPECT_TRUE(own.warnings().empty());
+  ImageDatasetOptions overridden;
+  overridden.override_times = true;  // the times are known wrong: frame k at k / frame_rate_hz
+  const ImageDataset fixed(dir, overridden);
+  EXPECT_DOUBLE_EQ(fixed.frameRateHz(), 10.0);
+  EXPECT_EQ(fixed.stampNs(2), 200'000'000);
+  EXPECT_EQ(fixed.frameRateSource(), "dataset.frame_rate_hz (override_times)");
+
+  // A step far from the others is possible (a dropped frame) and said, naming the file and line.
+  std::ofstream(dir + "/times.txt") << "0.0\n0.1\n0.3\n";
+  const ImageDataset uneven(dir, {});
+  ASSERT_EQ(uneven.warnings().size(), 1u);
+  EXPECT_NE(uneven.warnings()[0].find("times.txt:3: a step of 0.2"), std::string::npos) << uneven.warnings()[0];
+  // Times in milliseconds give no camera's rate: refused.
+  std::ofstream(dir + "/times.txt") << "0\n100\n200\n";
+  EXPECT_NE(ErrorOf([&] { ImageDataset(dir, {}); }).find("no camera's frame rate"), std::string::npos);
+}
+
+TEST(ImageDataset, ACalibrationInNormalisedUnitsIsRefused) {
+  // fx = 0.78 for 64 px wide images (50 px in pixels): it parses, and every depth and motion would be wrong.
+  const std::string dir = MakeVdoDataset("vdo_normalised");
+  {
+    std::ofstream calib(dir + "/calib.txt");
+    for (int i = 0; i < 4; ++i) calib << 'P' << i << ": 0.78 0 0.5 0 0 0.78 0.5 0 0 0 1 0\n";
+    calib << "R0_rect: 1 0 0 0 1 0 0 0 1\nTr_velo_to_cam: 0 -1 0 0 0 0 -1 0 1 0 0 0\n";
+  }
+  const std::string error = ErrorOf([&] { ImageDataset(dir, {}); });
+  EXPECT_NE(error.find("calibration focal length 0.78"), std::string::npos) << error;
+  EXPECT_NE(error.find("normalised units"), std::string::npos) << error;
+  EXPECT_NO_THROW(ImageDataset(MakeVdoDataset("vdo_pixels"), {}));  // 50 px for 64 px: a 65 degree view
+}
+
 TEST(ImageDataset, AFrameMissingInTheMiddleIsAnErrorNamingItNotAShiftOfEveryLaterFrame) {
   // Removing frame 1's files used to pair image 000002.png with frame 1's time, odometry and ground truth.
   const std::string dir = MakeVdoDataset("vdo_gap");

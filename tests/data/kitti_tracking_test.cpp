@@ -119,11 +119,16 @@ TEST(VdoFiles, MalformedInputNamesFileAndLine) {
   const std::string times = (dir / "times.txt").string();
   std::ofstream(times) << "0\n0.1\n0.05\n";
   ExpectErrorAt([&] { ReadTimes(times); }, times + ":3: time goes backwards");
+  std::ofstream(times) << "0\n0.1\n0.1\n";  // two frames at one instant: a speed over zero seconds
+  ExpectErrorAt([&] { ReadTimes(times); }, times + ":3: timestamp 0.1 s repeats the previous line's");
   const std::string obj = (dir / "object_pose.txt").string();
   std::ofstream(obj) << "0\t1\t1\t2\t3\t4\t1.0\t1.6\n";
   ExpectErrorAt([&] { ReadObjectPoses(obj); }, obj + ":1: expected 10 fields, found 8");
   std::ofstream(obj) << "0 1 1 2 3 4 1.0 1.6 1e300 0.1\n";
   ExpectErrorAt([&] { ReadObjectPoses(obj); }, obj + ":1: the position is more than 1e7 m from the camera");
+  // An object listed twice in a frame was taken silently (its second pose replaced the first).
+  std::ofstream(obj) << "0 1 1 2 3 4 1.0 1.6 10 0.1\n0 2 1 2 3 4 2.0 1.6 10 0.1\n0 1 1 2 3 4 1.5 1.6 10 0.1\n";
+  ExpectErrorAt([&] { ReadObjectPoses(obj); }, obj + ":3: object 1 listed twice in frame 0 (first on line 1)");
   fs::remove_all(dir);
 }
 

@@ -144,6 +144,16 @@ TEST(ConfigYaml, AFileOfMegabytesIsRefusedWithoutReadingItAll) {
     EXPECT_NE(std::string(e.what()).find("/dev/zero is over 4 MB"), std::string::npos) << e.what();
   }
   EXPECT_THROW(ParseRunConfig("dataset: {max_image_pixels: 0}\n"), std::invalid_argument);
+  // .inf and .nan parse as numbers: refused for every setting, by name.
+  for (const char* text : {"noise: {point_sigma_m: .inf}\n", "noise: {motion_sigma_m: .nan}\n",
+                           "dataset: {stereo_wls_lambda: -.inf}\n"}) {
+    try {
+      ParseRunConfig(text, "cfg.yaml");
+      FAIL() << "accepted " << text;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("is not a finite number"), std::string::npos) << e.what();
+    }
+  }
   EXPECT_EQ(ParseRunConfig("dataset: {max_image_pixels: 1000}\n").dataset.max_image_pixels, 1000);
 }
 
