@@ -117,6 +117,7 @@ struct ImageFrontend::Snapshot {
   std::map<int, ObjectMotionMemory> last_object_motion;
   cv::Mat prev_gray, prev_depth, prev_flow_to_next;  // headers: process() replaces them, never writes into them
   std::optional<int> prev_frame_index;
+  int64_t prev_t_ns = 0;
   int64_t next_track_id = 1;
   ObjectAssociator associator;
   FrontendFrameStats stats;
@@ -124,7 +125,7 @@ struct ImageFrontend::Snapshot {
 
 ImageFrontend::Snapshot ImageFrontend::save() const {
   return {tracks_,     prev_label_boxes_,  last_camera_motion_, last_object_motion_, prev_gray_,    prev_depth_,
-          prev_flow_to_next_, prev_frame_index_, next_track_id_, associator_,     stats_};
+          prev_flow_to_next_, prev_frame_index_, prev_t_ns_, next_track_id_, associator_, stats_};
 }
 
 void ImageFrontend::restore(Snapshot&& s) {
@@ -136,6 +137,7 @@ void ImageFrontend::restore(Snapshot&& s) {
   prev_depth_ = s.prev_depth;
   prev_flow_to_next_ = s.prev_flow_to_next;
   prev_frame_index_ = s.prev_frame_index;
+  prev_t_ns_ = s.prev_t_ns;
   next_track_id_ = s.next_track_id;
   associator_ = s.associator;
   stats_ = std::move(s.stats);
@@ -318,6 +320,19 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
     // Odometry that contradicts a well-supported visual motion is not fused here, and not handed to the
     // back-end as a factor.
     T_prev_curr = FuseUnlessContradicted(*pnp, frame.odometry, params_.odometry_gate_chi2, &odometry_rejected);
+    // After dropped frames (serve when it falls behind) the flow spans several frames' motion, where a
+    // textured scene's look-alikes can give a well-supported but wrong PnP: the odometry composed over the
+    // gap is kept then, with the static points that agree with it.
+    const bool after_gap = prev_frame_index_ && static_cast<double>(frame.t_ns - prev_t_ns_) > 1.5e9 * params_.frame_interval_s;
+    if (odometry_rejected && after_gap) {
+      odometry_rejected = false;
+      T_prev_curr = frame.odometry->T_prev_curr;
+      const SE3 T_curr_prev = T_prev_curr->inverse();
+      for (size_t j = 0; j < static_index.size(); ++j) {
+        const Vec3 p = T_curr_prev * static_prev[j];
+        keep[static_index[j]] = p.z() > 0.1 && (camera_.project(p) - static_uv[j]).norm() <= params_.pnp.reprojection_px;
+      }
+    }
     stats.odometry_rejected = odometry_rejected;
   }
 
@@ -415,6 +430,7 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
   prev_depth_ = depth;
   prev_flow_to_next_ = frame.flow_to_next;
   prev_frame_index_ = frame.frame_index;
+  prev_t_ns_ = frame.t_ns;
   stats.phase_ms.measurement_ms = phase.lap();
   stats_ = stats;
   return out;

@@ -184,6 +184,7 @@ class ImageFrontend {
   std::map<int, ObjectMotionMemory> last_object_motion_;  // kept a few frames across occlusions
   cv::Mat prev_gray_, prev_depth_, prev_flow_to_next_;
   std::optional<int> prev_frame_index_;
+  int64_t prev_t_ns_ = 0;  // the previous frame's stamp: a longer step than the frame rate's is a gap
   int64_t next_track_id_ = 1;
   FrontendFrameStats stats_;
   std::unique_ptr<Snapshot> before_last_;  // the state before the last process(), for undoLast()
