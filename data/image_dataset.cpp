@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <future>
 #include <stdexcept>
 #include <tuple>
@@ -74,9 +75,14 @@ std::vector<std::string> Matching(const std::vector<std::string>& images, const 
 std::string Size(const cv::Mat& m) { return std::to_string(m.cols) + "x" + std::to_string(m.rows); }
 
 cv::Mat ReadImage(const std::string& path, int flags, int64_t max_pixels) {
-  if (const std::string problem = FindPngProblem(path, max_pixels); !problem.empty())
+  // The file is read once: its structure checked from the bytes, then the same bytes decoded.
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  std::vector<unsigned char> bytes(in ? static_cast<size_t>(std::max<std::streamoff>(0, in.tellg())) : 0);
+  in.seekg(0);
+  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()))) bytes.clear();
+  if (const std::string problem = FindPngProblem(bytes, max_pixels); !problem.empty())
     throw std::runtime_error("cannot read image " + path + ": " + problem);
-  cv::Mat image = cv::imread(path, flags);
+  cv::Mat image = bytes.empty() ? cv::Mat() : cv::imdecode(bytes, flags);
   if (image.empty()) throw std::runtime_error("cannot read image " + path + " (missing, truncated or not an image)");
   return image;
 }

@@ -1,7 +1,7 @@
 #include "data/png_check.h"
 
+#include <algorithm>
 #include <array>
-#include <fstream>
 
 namespace dslam {
 namespace {
@@ -12,28 +12,22 @@ uint32_t BigEndian32(const unsigned char* b) {
 
 }  // namespace
 
-std::string FindPngProblem(const std::string& path, int64_t max_pixels) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) return {};  // the decoder names a missing file
-  const int64_t size = static_cast<int64_t>(in.tellg());
-  in.seekg(0);
+std::string FindPngProblem(const std::vector<unsigned char>& bytes, int64_t max_pixels) {
   static constexpr std::array<unsigned char, 8> kSignature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  std::array<unsigned char, 8> signature{};
-  if (!in.read(reinterpret_cast<char*>(signature.data()), signature.size()) || signature != kSignature) return {};
-
+  if (bytes.size() < kSignature.size() || !std::equal(kSignature.begin(), kSignature.end(), bytes.begin())) return {};
+  const int64_t size = static_cast<int64_t>(bytes.size());
   int64_t at = 8;
   bool first = true;
   for (;;) {
-    unsigned char head[8];  // length, type
-    if (at + 8 > size || !in.read(reinterpret_cast<char*>(head), 8))
+    if (at + 8 > size)
       return "PNG cut off after byte " + std::to_string(at) + " of " + std::to_string(size) + " (no IEND chunk)";
+    const unsigned char* head = bytes.data() + at;  // length, type
     const uint32_t length = BigEndian32(head);
     const std::string type(reinterpret_cast<const char*>(head + 4), 4);
     if (first) {
       if (type != "IHDR" || length != 13) return "PNG does not start with its IHDR header";
-      unsigned char ihdr[8];
-      if (!in.read(reinterpret_cast<char*>(ihdr), 8)) return "PNG cut off in its IHDR header";
-      const int64_t width = BigEndian32(ihdr), height = BigEndian32(ihdr + 4);
+      if (at + 16 > size) return "PNG cut off in its IHDR header";
+      const int64_t width = BigEndian32(head + 8), height = BigEndian32(head + 12);
       if (width == 0 || height == 0) return "PNG of " + std::to_string(width) + "x" + std::to_string(height) + " pixels";
       if (width * height > max_pixels)
         return "PNG of " + std::to_string(width) + "x" + std::to_string(height) + " pixels, more than the " +
@@ -46,7 +40,6 @@ std::string FindPngProblem(const std::string& path, int64_t max_pixels) {
              std::to_string(end) + ")";
     if (type == "IEND") return {};
     at = end;
-    in.seekg(at);
   }
 }
 

@@ -6,11 +6,12 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace dslam {
 
-// Empty when `path` is not a PNG (other formats go to the decoder as they are) or is a whole PNG of at most
-// `max_pixels`; otherwise what is wrong, e.g. "PNG cut off in chunk IDAT at byte 20000 of 20000".
-std::string FindPngProblem(const std::string& path, int64_t max_pixels);
+// Empty when `bytes` (a whole file) are not a PNG (other formats go to the decoder as they are) or are a whole
+// PNG of at most `max_pixels`; otherwise what is wrong, e.g. "PNG cut off in chunk IDAT at byte 20000 (...)".
+std::string FindPngProblem(const std::vector<unsigned char>& bytes, int64_t max_pixels);
 
 }  // namespace dslam
