@@ -102,8 +102,8 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
       if (const auto warning = CheckUdpReceiveBuffer(*requested)) err << "dslam serve: warning: " << *warning << std::endl;
     } else {
       err << "dslam serve: warning: " << serve.profiles_file
-          << " gives the UDPv4 transport no receiveBufferSize: images over UDP will lose fragments (README, "
-             "Vehicle network)"
+          << " gives the UDPv4 transport no receiveBufferSize: images over UDP will lose fragments (docs/serve.md, "
+             "QoS and the vehicle network)"
           << std::endl;
     }
     const auto start = std::chrono::steady_clock::now();
@@ -118,7 +118,7 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
           if (s.counters.samples_lost <= lost_reported[name]) continue;
           out << "dslam serve: warning: vehicle '" << name << "': " << s.counters.samples_lost
               << " input samples lost so far (gaps in the writers' sequence numbers: over UDP usually fragments the "
-                 "socket buffer could not hold; see the README, Vehicle network)"
+                 "socket buffer could not hold; see docs/serve.md, QoS and the vehicle network)"
               << std::endl;
           lost_reported[name] = s.counters.samples_lost;
           last_loss_warning = now;

@@ -158,7 +158,7 @@ int main(int argc, char** argv) {
   CLI::App* run_cmd = app.add_subcommand(
       "run", "Run the image front-end and the back-end on a recorded or rendered image sequence (VDO-SLAM / DynoSAM "
              "layout, KITTI tracking or KITTI raw); evaluate ours, static-only and SLAM+MOT when it has ground truth");
-  run_cmd->add_option("--dataset", run.dataset_dir, "Dataset directory (see README: image datasets)")
+  run_cmd->add_option("--dataset", run.dataset_dir, "Dataset directory (see docs/run.md, Datasets)")
       ->required()
       ->check(CLI::ExistingDirectory);
   run_cmd->add_option("--seq", run.sequence, "KITTI tracking layout: sequence number, e.g. 0000");

@@ -97,7 +97,7 @@ int RunRenderSceneCommand(const RenderSceneOptions& options, std::ostream& out, 
         out << "  frame " << k + 1 << "/" << frames << ", " << (k + 1) / s << " frames/s" << std::endl;
       }
     }
-    // A vehicle's odometry beside the images: the true increments with DESIGN.md §5 noise, seeded.
+    // A vehicle's odometry beside the images: the true increments with the simulator's odometry noise (docs/design.md §10), seeded.
     std::mt19937_64 rng(options.seed * 2862933555777941757ULL + 3037000493ULL);
     std::map<int, OdometryMeasurement> odometry;
     for (int k = 1; k < frames; ++k)

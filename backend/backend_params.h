@@ -47,8 +47,8 @@ struct BackendParams {
   // Fixed-lag smoother: per-frame object points and object motions stay this many frames (2..W) in the
   // window; older ones are marginalised (backend/marginalisation.h). Cameras, static structure and the
   // points of objects with one motion for their whole track (constant mode) stay W. 4: with 3 the
-  // objects' errors were 2.3 to 4.6 % above the Ceres window's on three acceptance scenes (README, "The
-  // fixed-lag smoother"); 5 cost another 40 % of the back-end's time for less than a point more.
+  // objects' errors were 2.3 to 4.6 % above the Ceres window's on three acceptance scenes (docs/benchmarks.md,
+  // "Back-end"); 5 cost another 40 % of the back-end's time for less than a point more.
   int object_window_frames = 4;
   // Window: frames of a landmark's measurements kept as robust factors after their camera left the
   // window (camera held), before they are folded into its prior.
@@ -60,7 +60,7 @@ struct BackendParams {
   // need not converge on its own. What the iterations past 1e-3 still gain is mostly landmarks with
   // measurements beyond the Huber threshold creeping towards their optimum (reweighting converges
   // linearly there) while the poses move by under 0.1 mm: on the demo scene they were a third of the
-  // back-end's time and changed no acceptance metric by more than 2 % (README, "Benchmarks").
+  // back-end's time and changed no acceptance metric by more than 2 % (docs/benchmarks.md).
   double window_function_tolerance = 1e-3;
   // Relative cost decrease below which the batch solve stops. It must be small: a long run's cost is a
   // sum over many residuals, so 1e-6 of it still moved the camera path by centimetres (KITTI replay

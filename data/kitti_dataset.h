@@ -40,7 +40,7 @@ struct KittiGroundTruthSequence {
 KittiGroundTruthSequence LoadKittiGroundTruth(const std::string& dir, const std::string& seq);
 
 // The evaluation's ground truth for the first `num_frames` frames: camera poses, object poses and
-// centroids (DESIGN.md §5: (X, Y - h/2, Z) in the box frame). An object counts as observed in frame k
+// centroids (docs/design.md §10: (X, Y - h/2, Z) in the box frame). An object counts as observed in frame k
 // when it is labelled there, its centroid is closer to the camera than `object_max_range_m` and
 // `visible(k, object_id)` says the sensor saw it (e.g. its instance mask is large enough).
 GroundTruth ToGroundTruth(const KittiGroundTruthSequence& gt, int num_frames, double object_max_range_m,

@@ -1,5 +1,5 @@
 #pragma once
-// The error metrics of DESIGN.md §4, computed from plain inputs so that each can be checked by hand.
+// The error metrics of docs/design.md §9, computed from plain inputs so that each can be checked by hand.
 
 #include <optional>
 #include <utility>

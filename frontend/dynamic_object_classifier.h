@@ -30,7 +30,7 @@ namespace dslam {
 struct ClassifierParams {
   // The estimator's test: slower than this and not significant, an object may join the static map.
   double dynamic_speed_threshold_mps = 0.5;
-  // The report's: an object is reported moving only this fast (DESIGN.md's moving pair: 1 m/s). Higher than
+  // The report's: an object is reported moving only this fast (the metrics' moving pair, docs/design.md §9: 1 m/s). Higher than
   // the estimator's, since a slow, significant motion keeps an object out of the static map, but a vehicle
   // acting on the report needs it to mean what the evaluation means by moving.
   double report_speed_threshold_mps = 1.0;

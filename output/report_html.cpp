@@ -266,7 +266,7 @@ void WriteStudyReportHtml(const std::string& title, const std::vector<std::vecto
   std::ostringstream out;
   out << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>dslam study: " << Escape(title) << "</title>\n"
       << kStyle << "</head><body>\n<h1>dslam study: " << Escape(title) << "</h1>\n"
-      << "<p>One front-end component made realistic at a time, the others exact (README, <code>dslam study</code>). "
+      << "<p>One front-end component made realistic at a time, the others exact (docs/study.md). "
          "Files: <a href=\"study.csv\">study.csv</a>, <a href=\"tracking.csv\">tracking.csv</a>.</p>\n";
   HtmlTable(out, "Errors per setting and method (RTE and OMTE/OMSE in %, RRE and OMRE in °/m, ATE in m)", study_csv, true);
   HtmlTable(out, "Correspondences per frame pair and their end-point error (px) against the exact ones", tracking_csv, true);

@@ -37,7 +37,7 @@ std::optional<std::string> CheckUdpReceiveBuffer(int requested_bytes) {
   return "the kernel grants UDP sockets " + std::to_string(granted) + " bytes of receive buffer, the DDS profile asks for " +
          std::to_string(requested_bytes) + ": images over UDP (another host, another DDS implementation) will lose "
          "fragments; on this host run: sysctl -w net.core.rmem_max=" + std::to_string(requested_bytes) +
-         " (README, Vehicle network)";
+         " (docs/serve.md, QoS and the vehicle network)";
 }
 
 }  // namespace dslam

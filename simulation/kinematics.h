@@ -1,5 +1,5 @@
 #pragma once
-// Planar motion on flat ground for simulated vehicles and cameras. Frames follow DESIGN.md §2:
+// Planar motion on flat ground for simulated vehicles and cameras. Frames follow docs/design.md §1:
 // x right, y down, z forward; yaw turns +z toward +x; the ground plane is y = ground_y.
 
 #include <functional>

@@ -50,7 +50,7 @@ SensorSimulator MakeKittiReplaySimulator(const KittiGroundTruthSequence& gt, con
     // Small objects (pedestrians) get a finer grid so that they still carry enough points.
     const double spacing = std::min(0.3, std::min({track.l, track.w, track.h}) / 3.0);
     obj.surface = SampleBox(track.l, track.w, track.h, spacing);
-    obj.centroid_body = Vec3(0.0, -track.h / 2.0, 0.0);  // DESIGN.md §5: (X, Y - h/2, Z)
+    obj.centroid_body = Vec3(0.0, -track.h / 2.0, 0.0);  // docs/design.md §10: (X, Y - h/2, Z)
     for (const auto& [k, T_camera_object] : track.T_camera_object)
       obj.L_world_object[k] = gt.T_world_camera[k] * T_camera_object;
     world.objects.push_back(std::move(obj));

@@ -1,5 +1,5 @@
 #pragma once
-// Ground-truth replay (DESIGN.md §5): the real KITTI camera path and object boxes with synthetic
+// Ground-truth replay (docs/design.md §10): the real KITTI camera path and object boxes with synthetic
 // measurements — static points on facades and the road along the path, object points on the visible
 // faces of the real boxes (fixed in the body frame), Gaussian point noise, odometry noise, objects
 // gated by distance. Seeded and deterministic; nothing depends on the sequence number.

@@ -154,7 +154,7 @@ SimWorld CityWorld(int frames, uint64_t seed) {
   return world;
 }
 
-// A slow camera at a junction (DESIGN.md §5 sensor model): it creeps towards the crossing street,
+// A slow camera at a junction (the sensor model of docs/design.md §10): it creeps towards the crossing street,
 // waits, and creeps on. Cars cross in front of it both ways at 30 to 60 km/h, 8 to 25 m away; others
 // come the other way on the camera's street; cars are parked at the kerbs; one car ahead stops before
 // the crossing and starts again.

@@ -1,5 +1,5 @@
 #pragma once
-// Built-in simulated scenarios (DESIGN.md §5):
+// Built-in simulated scenarios (docs/design.md §10):
 //  - "paper": the simulated experiment of Henein et al. 2020: one ellipsoid-shaped rigid object with a
 //    constant SE(3) pose change, a camera on a circular path that keeps it in view, no static structure.
 //  - "city": a street with sparse static landmarks (facades, ground, poles), parked cars on both sides

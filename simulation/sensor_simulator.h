@@ -1,6 +1,6 @@
 #pragma once
 // Turns a simulated world (true camera path, static points, rigid objects) into noisy measurements
-// (3D points in the camera frame, odometry increments) plus ground truth, as DESIGN.md §5 describes.
+// (3D points in the camera frame, odometry increments) plus ground truth, as docs/design.md §10 describes.
 
 #include <cstdint>
 #include <map>
@@ -52,7 +52,7 @@ struct SimWorld {
   std::vector<SimObject> objects;
 };
 
-// An odometry increment with DESIGN.md §5 noise: per-axis sigmas proportional to the step (with floors),
+// An odometry increment with the simulated noise (docs/design.md §10): per-axis sigmas proportional to the step (with floors),
 // the true increment perturbed on the right.
 OdometryMeasurement NoisyOdometry(const SE3& T_prev_curr_true, const SimNoise& noise, std::mt19937_64& rng);
 

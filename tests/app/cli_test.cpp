@@ -1,4 +1,4 @@
-// The command line's own errors: exit status 2 (README) with a line that names the problem.
+// The command line's own errors: exit status 2 (README, "Exit status") with a line that names the problem.
 #include <gtest/gtest.h>
 
 #include <algorithm>

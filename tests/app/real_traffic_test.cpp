@@ -1,7 +1,7 @@
 // The whole pipeline on 78 real KITTI frames of stop-and-go traffic with LiDAR (skipped when
 // ../shared/data is absent): masks made from the LiDAR scans, the run checked against the LiDAR alone
 // (dslam lidar-check). The figures asserted are what this version reaches, with a margin; the targets
-// still open are in the README's "Real traffic" section.
+// still open are in docs/results.md, "Real traffic".
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -68,7 +68,7 @@ TEST(RealTraffic, MasksFromTheLidarGiveEachVehicleASpeedAndKeepTheCameraCloserTo
   all_static["moving_rows"] = static_cast<int>(static_run.speeds.size());
 
   // The camera: moving vehicles no longer drag it as far (end point 18.3 -> 15.8 % of the LiDAR's path when
-  // written; the reference itself is uncertain by several per cent here, see the README).
+  // written; the reference itself is uncertain by several per cent here, see docs/results.md).
   EXPECT_LT(masked["camera"]["end_error_pct"].get<double>(), all_static["camera"]["end_error_pct"].get<double>());
   EXPECT_LT(masked["camera"]["end_error_pct"].get<double>(), 17.0);
   EXPECT_LT(masked["camera"]["rte_pct"].get<double>(), all_static["camera"]["rte_pct"].get<double>());

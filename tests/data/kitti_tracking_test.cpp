@@ -51,7 +51,7 @@ TEST(KittiLabels, ReadsSequence0000AndSkipsDontCare) {
     EXPECT_NE(l.type, "DontCare");
     EXPECT_GE(l.track_id, 0);
   }
-  // First row after the DontCare ones: the Van of track 0 (see the README's sample).
+  // First row after the DontCare ones: the Van of track 0 (see the shared data's README).
   EXPECT_EQ(labels.front().type, "Van");
   EXPECT_NEAR(labels.front().bottom_centre_camera.z(), 13.410495, 1e-9);
 }
@@ -97,7 +97,7 @@ TEST(VdoFiles, ReadSequence0000) {
   EXPECT_TRUE(poses.front().isApprox(SE3::Identity(), 1e-9));
   double path_m = 0.0;
   for (size_t k = 1; k < poses.size(); ++k) path_m += (poses[k].translation() - poses[k - 1].translation()).norm();
-  EXPECT_NEAR(path_m, 69.0, 3.0);  // the README's figure
+  EXPECT_NEAR(path_m, 69.0, 3.0);  // the shared data README's figure
   const auto objects = ReadObjectPoses((gt / "object_pose.txt").string());
   ASSERT_FALSE(objects.empty());
   EXPECT_EQ(objects.front().object_id, 1);

@@ -1,7 +1,7 @@
 // The ROS 2 package ros2/dslam_msgs must describe exactly what `dslam serve` puts on the wire, which
 // idl/dslam_msgs.idl defines: same messages, same fields in the same order with the same types (the wire
 // format, XCDR1 without type information, is the fields in order). Field names are compared too, so
-// that `ros2 topic echo` shows the names the README documents.
+// that `ros2 topic echo` shows the names docs/serve.md documents.
 #include <gtest/gtest.h>
 
 #include <fstream>
