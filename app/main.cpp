@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include "app/dds_commands.h"
 #include "app/figures_command.h"
@@ -12,6 +13,7 @@
 #include "app/run_command.h"
 #include "app/sim_command.h"
 #include "app/study_command.h"
+#include "output/dir_lock.h"
 #include "simulation/scenarios.h"
 
 namespace {
@@ -317,6 +319,26 @@ int main(int argc, char** argv) {
   sim.sigma_given = sim_cmd->count("--sigma") > 0;
   replay.sigma_given = replay_cmd->count("--sigma") > 0;
   run.sigma_given = run_cmd->count("--sigma") > 0;
+  // A command's output folder is its own while it runs (output/dir_lock.h): a second command writing the same
+  // folder stops with status 4 instead of interleaving its files. (serve takes each vehicle's folder itself;
+  // figures only a folder that exists: a missing one is bad input, said by the command.)
+  std::optional<dslam::DirLock> out_lock;
+  const std::pair<CLI::App*, std::string> writers[] = {
+      {run_cmd, run.out_dir},       {study_cmd, study.out_dir}, {render_cmd, render.out_dir},
+      {sim_cmd, sim.out_dir},       {replay_cmd, replay.out_dir}, {lidar_check_cmd, lidar_check.out_dir},
+      {figures_cmd, std::filesystem::is_directory(figures_dir) ? figures_dir : std::string()}};
+  for (const auto& [cmd, dir] : writers) {
+    if (!cmd->parsed() || dir.empty()) continue;
+    try {
+      out_lock.emplace(dir);
+    } catch (const dslam::FolderInUseError& e) {
+      std::cerr << "dslam " << cmd->get_name() << ": error: " << e.what() << std::endl;
+      return 4;
+    } catch (const std::exception& e) {
+      std::cerr << "dslam " << cmd->get_name() << ": error: " << e.what() << std::endl;
+      return 2;
+    }
+  }
   if (serve_cmd->parsed()) return dslam::RunServeCommand(serve, std::cout, std::cerr);
   if (publish_cmd->parsed()) return dslam::RunPublishCommand(publish, std::cout, std::cerr);
   if (run_cmd->parsed()) return dslam::RunRunCommand(run, std::cout, std::cerr);

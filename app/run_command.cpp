@@ -9,6 +9,7 @@
 #include "output/frame_overlay.h"
 #include "output/object_summary.h"
 #include "output/streaming_sink.h"
+#include "output/whole_line_file.h"
 #include "pipeline/image_run.h"
 #include "pipeline/run_sequence.h"
 
@@ -56,7 +57,7 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
 
     ImageRunSummary summary;
     const std::string log_path = options.out_dir + "/frontend.csv";
-    std::ofstream frame_log(log_path);
+    WholeLineFile frame_log(log_path);  // whole rows on disk whatever ends the run
     if (!frame_log) throw std::runtime_error("cannot write " + log_path);
     RunSequenceOptions run;
     run.progress = options.quiet ? nullptr : &out;

@@ -1,5 +1,5 @@
 # One static library per layer folder, linking only the layers below it. Every layer includes headers by
-# their path from the repository's root ("data/image_frame.h"); tests/layers_check.sh holds each folder to
+# their path from the repository's root ("data/image_frame.h"); tests/layers/layers_check.py holds each folder to
 # the layers its library names here, so that an include of a higher layer fails the tests, not only a review.
 #
 # dslam_layer(<folder> SOURCES <files> [LAYERS <lower layer folders>] [LIBS <public libraries>]

@@ -14,16 +14,16 @@ namespace dslam {
 DirLock::DirLock(const std::string& dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
-  if (ec) throw std::runtime_error("cannot create output folder " + dir + ": " + ec.message());
+  if (ec) throw std::runtime_error("cannot create the output folder " + dir + ": " + ec.message());
   const std::string path = dir + "/.dslam.lock";
   fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw std::runtime_error("cannot write in output folder " + dir + ": " + std::strerror(errno));
+  if (fd_ < 0) throw std::runtime_error("cannot write in the output folder " + dir + ": " + std::strerror(errno));
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
     char holder[32] = {0};
     const ssize_t n = ::pread(fd_, holder, sizeof holder - 1, 0);
     ::close(fd_);
     fd_ = -1;
-    throw std::runtime_error("output folder " + dir + " is in use by another process" +
+    throw FolderInUseError("output folder " + dir + " is in use by another process" +
                              (n > 0 ? std::string(" (pid ") + std::string(holder, static_cast<size_t>(n)) + ")" : std::string()) +
                              ": give each its own --out or vehicle name");
   }

@@ -1,16 +1,24 @@
 #pragma once
-// An output folder taken by one process at a time: a second `dslam serve` (or anything else using it)
-// writing the same folder gets an error naming it instead of interleaving its files with the first's.
+// An output folder taken by one process at a time: a second dslam command writing the same folder gets an
+// error naming it instead of interleaving its files with the first's.
 // An advisory lock (flock) on DIR/.dslam.lock, released when the holder exits, however it exits.
 
+#include <stdexcept>
 #include <string>
 
 namespace dslam {
 
+// Another process holds the folder (exit status 4 at the command line; anything else about the folder is bad
+// input, status 2).
+class FolderInUseError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 class DirLock {
  public:
-  // Creates `dir` if needed and takes it; throws std::runtime_error naming it (and the holder's pid)
-  // when another process has it, or when it cannot be created.
+  // Creates `dir` if needed and takes it; throws FolderInUseError naming it (and the holder's pid) when
+  // another process has it, std::runtime_error when it cannot be created or written.
   explicit DirLock(const std::string& dir);
   ~DirLock();
   DirLock(const DirLock&) = delete;

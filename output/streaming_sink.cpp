@@ -15,13 +15,12 @@ namespace {
 
 constexpr const char* kMapPointsHeader = "frame,object_id,x,y,z";
 
-std::ofstream Open(const std::string& path, const std::string& header, bool fixed) {
-  std::ofstream out(path, std::ios::trunc);
-  if (!out) throw std::runtime_error("cannot write " + path);
-  out << std::setprecision(9);
-  if (fixed) out << std::fixed;
-  if (!header.empty()) out << header << '\n';
-  return out;
+void Open(const std::string& path, const std::string& header, bool fixed, WholeLineFile* out) {
+  out->open(path);
+  if (!*out) throw std::runtime_error("cannot write " + path);
+  *out << std::setprecision(9);
+  if (fixed) *out << std::fixed;
+  if (!header.empty()) *out << header << '\n';
 }
 
 // The first frame with a ground-truth pose of an object (its estimated_ bits start there).
@@ -44,14 +43,14 @@ void StreamingFileSink::open() {
   if (ec) throw std::runtime_error("cannot create output directory " + dir_ + ": " + ec.message());
   // The same formats (and, for the trajectories, the same number format) as the files written at the end.
   const std::string camera = dir_ + "/camera_" + files_.method;
-  camera_ = Open(camera + ".tum", "", true);
-  if (files_.kitti) kitti_ = Open(camera + ".kitti", "", true);
-  if (files_.online) online_ = Open(camera + "_online.tum", "", true);
+  Open(camera + ".tum", "", true, &camera_);
+  if (files_.kitti) Open(camera + ".kitti", "", true, &kitti_);
+  if (files_.online) Open(camera + "_online.tum", "", true, &online_);
   if (files_.object_tables) {
-    motions_ = Open(dir_ + "/object_motions" + files_.object_suffix + ".csv", kObjectMotionsHeader, false);
-    speeds_ = Open(dir_ + "/object_speeds" + files_.object_suffix + ".csv", kObjectSpeedsHeader, false);
+    Open(dir_ + "/object_motions" + files_.object_suffix + ".csv", kObjectMotionsHeader, false, &motions_);
+    Open(dir_ + "/object_speeds" + files_.object_suffix + ".csv", kObjectSpeedsHeader, false, &speeds_);
   }
-  if (files_.map_points) points_ = Open(dir_ + "/map_points.csv", kMapPointsHeader, false);
+  if (files_.map_points) Open(dir_ + "/map_points.csv", kMapPointsHeader, false, &points_);
 }
 
 void StreamingFileSink::frameStamp(int frame, int64_t t_ns) {
@@ -123,7 +122,7 @@ void StreamingFileSink::writeLandmarksSeenBefore(int frame) {
 
 void StreamingFileSink::flush() {
   if (!opened_) return;
-  for (std::ofstream* f : {&camera_, &kitti_, &online_, &motions_, &speeds_, &points_}) {
+  for (WholeLineFile* f : {&camera_, &kitti_, &online_, &motions_, &speeds_, &points_}) {
     if (!f->is_open()) continue;
     f->flush();
     if (!*f) throw std::runtime_error("error while writing the streamed results in " + dir_);

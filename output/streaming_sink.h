@@ -17,13 +17,13 @@
 
 #include <cstdint>
 #include <deque>
-#include <fstream>
 #include <map>
 #include <string>
 #include <unordered_map>
 #include <utility>
 #include <vector>
 
+#include "output/whole_line_file.h"
 #include "backend/estimate.h"
 #include "data/ground_truth.h"
 
@@ -74,7 +74,8 @@ class StreamingFileSink : public EstimateSink {
   // With ground truth: per object, which frames (from its first pose on) got an estimate; a bit each.
   std::map<int, std::vector<bool>> estimated_;
   std::unordered_map<int64_t, std::pair<int, Vec3>> landmarks_;  // in sight: last final frame, value
-  std::ofstream camera_, kitti_, online_, motions_, speeds_, points_;
+  // Whole rows only on disk, whatever ends the process (output/whole_line_file.h).
+  WholeLineFile camera_, kitti_, online_, motions_, speeds_, points_;
 };
 
 }  // namespace dslam

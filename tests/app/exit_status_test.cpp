@@ -8,6 +8,8 @@
 #include <fstream>
 #include <string>
 
+#include "output/dir_lock.h"
+#include "support/child_process.h"
 #include "support/temp_paths.h"
 
 namespace dslam {
@@ -45,6 +47,35 @@ TEST(ExitStatus, EveryCommandEndsWithAStatusOfTheReadmeTable) {
   // 3: results written, figures not drawn (no Xvfb to be found, no display).
   EXPECT_EQ(Status("sim --frames 5 --quiet" + out, "env -u DISPLAY PATH=/nonexistent"), 3);
   EXPECT_TRUE(std::filesystem::exists(dir + "/results/metrics.json"));
+  std::filesystem::remove_all(dir);
+}
+
+
+// 4: an output folder another process writes (here: this test holds its lock) is refused by every command
+// that writes one, naming it, before anything runs; free again, the same folder is taken.
+TEST(ExitStatus, EveryCommandRefusesAnOutputFolderInUseWithStatus4) {
+  const std::string dir = test::TempPath("exit_status_in_use");
+  const std::string busy = dir + "/busy", data = dir + "/empty_dataset";  // exists: options pass their checks
+  std::filesystem::create_directories(data);
+  const std::vector<std::vector<std::string>> commands = {
+      {"sim", "--frames", "5", "--quiet", "--no-figures", "--out", busy},
+      {"kitti-replay", "--data", data, "--seq", "0000", "--out", busy},
+      {"run", "--dataset", data, "--out", busy},
+      {"render-scene", "--scenario", "city", "--frames", "2", "--out", busy},
+      {"study", "--dataset", data, "--out", busy},
+      {"lidar-check", "--dataset", data, "--out", busy},
+      {"figures", busy}};
+  {
+    const DirLock held(busy);
+    for (const auto& args : commands) {
+      const std::string log = dir + "/" + args[0] + ".log";
+      test::Process p(args, log);
+      EXPECT_EQ(p.wait(std::chrono::seconds(60)), 4) << args[0] << ": " << test::ReadFile(log);
+      EXPECT_NE(test::ReadFile(log).find("output folder " + busy + " is in use by another process"), std::string::npos)
+          << test::ReadFile(log);
+    }
+  }
+  EXPECT_EQ(Status("sim --frames 5 --quiet --no-figures --out " + busy), 0);
   std::filesystem::remove_all(dir);
 }
 

@@ -1,9 +1,11 @@
 // `dslam run` killed mid-sequence (SIGKILL: no handler runs) leaves every frame that had left the
-// smoother's window on disk, in complete lines equal to those of an uninterrupted run.
+// smoother's window on disk, in complete lines equal to those of an uninterrupted run; stopped by SIGTERM or
+// SIGINT at any moment it ends by that signal (the shell's 128 + n) with every file on whole rows.
 #include <gtest/gtest.h>
 #include <signal.h>
 
 #include <algorithm>
+#include <tuple>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -69,6 +71,43 @@ TEST(RunSigkill, LeavesEveryFrameThatLeftTheWindowOnDisk) {
   ASSERT_FALSE(log.empty());
   EXPECT_EQ(log.back(), '\n');
   for (const std::string& row : Lines(killed + "/frontend.csv")) EXPECT_EQ(std::count(row.begin(), row.end(), ','), 12) << row;
+}
+
+
+// Every CSV row has its header's columns and every trajectory row 8 (TUM) or 12 (KITTI) numbers; every file
+// ends on a newline.
+void ExpectWholeRows(const std::string& dir) {
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    const std::string path = entry.path().string(), ext = entry.path().extension().string();
+    if (ext != ".csv" && ext != ".tum" && ext != ".kitti") continue;
+    const std::string text = test::ReadFile(path);
+    if (text.empty()) continue;
+    EXPECT_EQ(text.back(), '\n') << path << " ends inside a row";
+    const std::vector<std::string> rows = Lines(path);
+    const auto fields = [](const std::string& row, char sep) { return std::count(row.begin(), row.end(), sep) + 1; };
+    for (const std::string& row : rows) {
+      const auto want = ext == ".csv" ? fields(rows[0], ',') : ext == ".tum" ? 8 : 12;
+      EXPECT_EQ(fields(row, ext == ".csv" ? ',' : ' '), want) << path << ": " << row;
+    }
+  }
+}
+
+TEST(RunSignals, SigtermOrSigintAtAnyMomentEndTheRunByTheSignalOnWholeRows) {
+  const std::string dataset = test::RenderedCity("sigkill_city", 40);
+  // The signal, and how many frames' online poses are on disk when it is sent.
+  for (const auto& [sig, after_frames] : {std::tuple{SIGTERM, 1}, std::tuple{SIGINT, 6}, std::tuple{SIGTERM, 14},
+                                          std::tuple{SIGINT, 25}}) {
+    const std::string out = test::TempPath("signal_" + std::to_string(sig) + "_" + std::to_string(after_frames));
+    test::Process run(RunArgs(dataset, out), out + ".log");
+    const auto deadline = std::chrono::steady_clock::now() + 300s;
+    while (Lines(out + "/camera_ours_online.tum").size() < static_cast<size_t>(after_frames) &&
+           std::chrono::steady_clock::now() < deadline && run.running())
+      std::this_thread::sleep_for(1ms);
+    run.signal(sig);
+    EXPECT_EQ(run.wait(60s), -1) << "exited instead of ending by the signal " << sig;
+    EXPECT_EQ(run.terminatingSignal(), sig) << test::ReadFile(out + ".log");
+    ExpectWholeRows(out);
+  }
 }
 
 }  // namespace

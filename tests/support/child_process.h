@@ -35,28 +35,38 @@ class Process {
     posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     posix_spawn_file_actions_adddup2(&actions, 1, 2);
     if (posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), environ) != 0) pid_ = -1;
+    started_ = pid_ > 0;
     posix_spawn_file_actions_destroy(&actions);
   }
   ~Process() {
     if (pid_ > 0) kill(pid_, SIGKILL), waitpid(pid_, nullptr, 0);
   }
   void signal(int sig) { kill(pid_, sig); }
-  bool running() { return pid_ > 0 && waitpid(pid_, &status_, WNOHANG) == 0; }
-  // Exit status, or -1 when it did not exit in time (then it is killed).
+  bool running() {
+    if (pid_ <= 0) return false;
+    if (waitpid(pid_, &status_, WNOHANG) != pid_) return true;
+    pid_ = -1;  // reaped: wait() reports its status
+    return false;
+  }
+  // Exit status, or -1 when it did not exit in time or was ended by a signal (see terminatingSignal()).
   int wait(std::chrono::seconds timeout) {
     const auto end = std::chrono::steady_clock::now() + timeout;
-    while (std::chrono::steady_clock::now() < end) {
+    while (pid_ > 0 && std::chrono::steady_clock::now() < end) {
       if (waitpid(pid_, &status_, WNOHANG) == pid_) {
         pid_ = -1;
-        return WIFEXITED(status_) ? WEXITSTATUS(status_) : -1;
+        break;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
-    return -1;
+    if (pid_ > 0 || !started_) return -1;
+    return WIFEXITED(status_) ? WEXITSTATUS(status_) : -1;
   }
+  // The signal that ended it, once waited for; 0 when it exited.
+  int terminatingSignal() const { return pid_ <= 0 && started_ && WIFSIGNALED(status_) ? WTERMSIG(status_) : 0; }
 
  private:
   pid_t pid_ = -1;
+  bool started_ = false;
   int status_ = 0;
 };
 

@@ -1,0 +1,85 @@
+#include "output/whole_line_file.h"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "support/temp_paths.h"
+
+namespace dslam {
+namespace {
+
+std::string Contents(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(WholeLineFile, AFlushWritesTheWholeLinesAndKeepsTheUnfinishedOne) {
+  const std::string path = test::TempPath("whole_line.csv");
+  WholeLineFile f(path);
+  ASSERT_TRUE(f);
+  f << "a,b\n1,2\n3,";
+  f.flush();
+  EXPECT_EQ(Contents(path), "a,b\n1,2\n");
+  f << "4\n5";
+  f.flush();
+  EXPECT_EQ(Contents(path), "a,b\n1,2\n3,4\n");
+  f.close();  // what the program wrote, the unfinished last line too
+  EXPECT_TRUE(f);
+  EXPECT_EQ(Contents(path), "a,b\n1,2\n3,4\n5");
+}
+
+TEST(WholeLineFile, ManyRowsWithoutAFlushGoOutWholeAndMemoryStaysBounded) {
+  const std::string path = test::TempPath("whole_line_big.csv");
+  WholeLineFile f(path);
+  const std::string row = "123456789,123456789,123456789,123456789\n";
+  for (int i = 0; i < 60000; ++i) f << row.substr(0, 20) << row.substr(20);  // 2.4 MB, rows in two pieces
+  const std::string on_disk = Contents(path);
+  EXPECT_GT(on_disk.size(), 1000000u);  // written without a flush
+  ASSERT_FALSE(on_disk.empty());
+  EXPECT_EQ(on_disk.back(), '\n');
+  EXPECT_EQ(on_disk.size() % row.size(), 0u);
+}
+
+TEST(WholeLineFile, AnUnwritablePathFailsTheStream) {
+  WholeLineFile f(test::TempPath("no_such_dir") + "/x.csv");
+  EXPECT_FALSE(f);
+  EXPECT_FALSE(f.is_open());
+}
+
+// A writer killed at any moment (SIGKILL: nothing of its own runs) leaves whole rows.
+TEST(WholeLineFile, AProcessKilledWhileWritingLeavesWholeRows) {
+  for (int trial = 0; trial < 5; ++trial) {
+    const std::string path = test::TempPath("whole_line_killed_" + std::to_string(trial) + ".csv");
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      WholeLineFile f(path);
+      for (long i = 0;; ++i) {
+        f << i << ',' << i * 7 << ',' << "some text to make a row long enough" << '\n';
+        if (i % 97 == 0) f.flush();
+      }
+    }
+    usleep(20000 + 15000 * trial);
+    kill(child, SIGKILL);
+    waitpid(child, nullptr, 0);
+    const std::string text = Contents(path);
+    ASSERT_FALSE(text.empty()) << trial;
+    EXPECT_EQ(text.back(), '\n') << trial;
+    std::istringstream rows(text);
+    long expected = 0;
+    for (std::string line; std::getline(rows, line); ++expected)
+      ASSERT_EQ(line, std::to_string(expected) + ',' + std::to_string(expected * 7) + ",some text to make a row long enough")
+          << trial;
+  }
+}
+
+}  // namespace
+}  // namespace dslam
