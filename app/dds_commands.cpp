@@ -10,6 +10,7 @@
 
 #include "data/kitti_tracking.h"
 #include "pipeline/config_yaml.h"
+#include "plugin/dds_error.h"
 #include "plugin/ros_distro.h"
 #include "plugin/topics.h"
 #include "plugin/udp_buffer_check.h"
@@ -183,6 +184,9 @@ int RunPublishCommand(const PublishCommandOptions& options, std::ostream& out, s
     const int n = PublishDataset(dataset, options.publish, out, &g_stop);
     out << "dslam publish: " << n << " frames published" << std::endl;
     return 0;
+  } catch (const DdsStartError& e) {
+    err << "dslam publish: error: " << e.what() << std::endl;
+    return 4;
   } catch (const std::exception& e) {
     err << "dslam publish: error: " << e.what() << std::endl;
     return 2;

@@ -10,14 +10,14 @@ namespace dds = eprosima::fastdds::dds;
 DdsSession::DdsSession(int domain_id, const std::string& profiles_file) {
   auto* factory = dds::DomainParticipantFactory::get_instance();
   if (factory->load_XML_profiles_file(profiles_file) != ReturnCode_t::RETCODE_OK)
-    throw std::runtime_error("cannot load the Fast DDS profiles " + profiles_file);
+    throw DdsStartError("cannot load the Fast DDS profiles " + profiles_file);
   participant_ = factory->create_participant_with_profile(static_cast<dds::DomainId_t>(domain_id), "dslam_participant");
   if (!participant_)
-    throw std::runtime_error("cannot create a DDS participant on domain " + std::to_string(domain_id) +
+    throw DdsStartError("cannot create a DDS participant on domain " + std::to_string(domain_id) +
                              " (profile dslam_participant of " + profiles_file + ")");
   publisher_ = participant_->create_publisher(dds::PUBLISHER_QOS_DEFAULT);
   subscriber_ = participant_->create_subscriber(dds::SUBSCRIBER_QOS_DEFAULT);
-  if (!publisher_ || !subscriber_) throw std::runtime_error("cannot create the DDS publisher and subscriber");
+  if (!publisher_ || !subscriber_) throw DdsStartError("cannot create the DDS publisher and subscriber");
 }
 
 DdsSession::~DdsSession() {
@@ -33,14 +33,14 @@ dds::Topic* DdsSession::topic(const std::string& name, dds::TopicDataType* type)
   if (t == types_.end()) {
     t = types_.emplace(type_name, dds::TypeSupport(type)).first;
     if (t->second.register_type(participant_) != ReturnCode_t::RETCODE_OK)
-      throw std::runtime_error("cannot register DDS type " + type_name);
+      throw DdsStartError("cannot register DDS type " + type_name);
   } else {
     delete type;  // already registered under this name
   }
   auto it = topics_.find(name);
   if (it != topics_.end()) return it->second;
   dds::Topic* topic = participant_->create_topic(name, type_name, dds::TOPIC_QOS_DEFAULT);
-  if (!topic) throw std::runtime_error("cannot create DDS topic " + name);
+  if (!topic) throw DdsStartError("cannot create DDS topic " + name);
   topics_[name] = topic;
   return topic;
 }
@@ -48,20 +48,20 @@ dds::Topic* DdsSession::topic(const std::string& name, dds::TopicDataType* type)
 dds::DataReader* DdsSession::reader(const std::string& topic_name, dds::TopicDataType* type, const std::string& profile,
                                     dds::DataReaderListener* listener) {
   dds::DataReader* r = subscriber_->create_datareader_with_profile(topic(topic_name, type), profile, listener);
-  if (!r) throw std::runtime_error("cannot create a reader of " + topic_name + " with profile " + profile);
+  if (!r) throw DdsStartError("cannot create a reader of " + topic_name + " with profile " + profile);
   return r;
 }
 
 dds::DataWriter* DdsSession::writer(const std::string& topic_name, dds::TopicDataType* type, const std::string& profile) {
   dds::DataWriter* w = publisher_->create_datawriter_with_profile(topic(topic_name, type), profile);
-  if (!w) throw std::runtime_error("cannot create a writer of " + topic_name + " with profile " + profile);
+  if (!w) throw DdsStartError("cannot create a writer of " + topic_name + " with profile " + profile);
   return w;
 }
 
 dds::DataWriter* DdsSession::writer(const std::string& topic_name, dds::TopicDataType* type,
                                     const dds::DataWriterQos& qos) {
   dds::DataWriter* w = publisher_->create_datawriter(topic(topic_name, type), qos);
-  if (!w) throw std::runtime_error("cannot create a writer of " + topic_name);
+  if (!w) throw DdsStartError("cannot create a writer of " + topic_name);
   return w;
 }
 

@@ -17,11 +17,13 @@
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
+#include "plugin/dds_error.h"
+
 namespace dslam {
 
 class DdsSession {
  public:
-  // Throws std::runtime_error naming the profile file or the entity that could not be created.
+  // Throws DdsStartError naming the profile file or the entity that could not be created.
   DdsSession(int domain_id, const std::string& profiles_file);
   ~DdsSession();
   DdsSession(const DdsSession&) = delete;

@@ -1,9 +1,10 @@
-// `dslam publish`: rates and waits outside a sensor's range are refused, and a stop signal is answered
-// at once whatever the rate (it used to sleep a whole frame period, 17 s at 0.05 Hz).
+// `dslam publish`: rates and waits outside a sensor's range are refused (2), DDS that cannot start is status 4
+// as for serve, and a stop signal is answered at once whatever the rate.
 #include <gtest/gtest.h>
 #include <signal.h>
 
 #include <chrono>
+#include <fstream>
 #include <thread>
 #include <tuple>
 #include <vector>
@@ -44,6 +45,21 @@ TEST(PublishCommand, StopsAtOnceOnSigtermEvenAtALowRate) {
   p.signal(SIGTERM);
   EXPECT_EQ(p.wait(20s), 0) << test::ReadFile(log);
   EXPECT_LT(std::chrono::steady_clock::now() - t0, 5s);
+}
+
+
+// The README's table: DDS that cannot start (here: Fast DDS cannot load the profiles file) is 4 for publish
+// as for serve, naming the file; bad options stay 2.
+TEST(PublishCommand, DdsThatCannotStartIsStatusFour) {
+  const std::string dataset = test::RenderedCity("publish_city", 3);
+  const std::string profiles = test::TempPath("publish_broken_profiles.xml"), log = test::TempPath("publish_dds.log");
+  std::ofstream(profiles) << "<?xml version=\"1.0\"?>\n<dds><profiles><participant profile_name=";
+  std::vector<std::string> args = Publish(dataset, "10", "0");
+  args.insert(args.end(), {"--profiles", profiles});
+  test::Process p(args, log);
+  EXPECT_EQ(p.wait(30s), 4) << test::ReadFile(log);
+  EXPECT_NE(test::ReadFile(log).find("cannot load the Fast DDS profiles " + profiles), std::string::npos)
+      << test::ReadFile(log);
 }
 
 }  // namespace
