@@ -1,20 +1,64 @@
 #include "plugin/dds_session.h"
 
+#include <memory>
+#include <mutex>
 #include <stdexcept>
+#include <vector>
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/log/Log.hpp>
 
 namespace dslam {
 namespace dds = eprosima::fastdds::dds;
+namespace {
+
+// While DDS starts, Fast DDS' own error lines (coloured, several per failure) are captured instead of printed,
+// so that a failure is one line of ours that quotes the first of them. Fast DDS' logging is restored after.
+class StartupLog {
+ public:
+  StartupLog() {
+    dds::Log::ClearConsumers();
+    dds::Log::RegisterConsumer(std::make_unique<Consumer>(this));
+  }
+  ~StartupLog() {
+    dds::Log::Flush();
+    dds::Log::Reset();
+  }
+  // ": <Fast DDS' first error>" when it logged one, else empty.
+  std::string firstError() {
+    dds::Log::Flush();
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return errors_.empty() ? std::string() : ": " + errors_.front();
+  }
+
+ private:
+  class Consumer : public dds::LogConsumer {
+   public:
+    explicit Consumer(StartupLog* log) : log_(log) {}
+    void Consume(const dds::Log::Entry& entry) override {
+      if (entry.kind != dds::Log::Kind::Error) return;
+      const std::lock_guard<std::mutex> lock(log_->mutex_);
+      log_->errors_.push_back(entry.message);
+    }
+
+   private:
+    StartupLog* log_;
+  };
+  std::mutex mutex_;
+  std::vector<std::string> errors_;
+};
+
+}  // namespace
 
 DdsSession::DdsSession(int domain_id, const std::string& profiles_file) {
+  StartupLog log;
   auto* factory = dds::DomainParticipantFactory::get_instance();
   if (factory->load_XML_profiles_file(profiles_file) != ReturnCode_t::RETCODE_OK)
-    throw DdsStartError("cannot load the Fast DDS profiles " + profiles_file);
+    throw DdsStartError("cannot load the Fast DDS profiles " + profiles_file + log.firstError());
   participant_ = factory->create_participant_with_profile(static_cast<dds::DomainId_t>(domain_id), "dslam_participant");
   if (!participant_)
     throw DdsStartError("cannot create a DDS participant on domain " + std::to_string(domain_id) +
-                             " (profile dslam_participant of " + profiles_file + ")");
+                        " (profile dslam_participant of " + profiles_file + ")" + log.firstError());
   publisher_ = participant_->create_publisher(dds::PUBLISHER_QOS_DEFAULT);
   subscriber_ = participant_->create_subscriber(dds::SUBSCRIBER_QOS_DEFAULT);
   if (!publisher_ || !subscriber_) throw DdsStartError("cannot create the DDS publisher and subscriber");

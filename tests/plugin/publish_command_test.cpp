@@ -49,7 +49,7 @@ TEST(PublishCommand, StopsAtOnceOnSigtermEvenAtALowRate) {
 
 
 // The README's table: DDS that cannot start (here: Fast DDS cannot load the profiles file) is 4 for publish
-// as for serve, naming the file; bad options stay 2.
+// as for serve, in one line naming the file; bad options stay 2.
 TEST(PublishCommand, DdsThatCannotStartIsStatusFour) {
   const std::string dataset = test::RenderedCity("publish_city", 3);
   const std::string profiles = test::TempPath("publish_broken_profiles.xml"), log = test::TempPath("publish_dds.log");
@@ -60,6 +60,8 @@ TEST(PublishCommand, DdsThatCannotStartIsStatusFour) {
   EXPECT_EQ(p.wait(30s), 4) << test::ReadFile(log);
   EXPECT_NE(test::ReadFile(log).find("cannot load the Fast DDS profiles " + profiles), std::string::npos)
       << test::ReadFile(log);
+  // One line of ours, quoting Fast DDS; not its own coloured log lines.
+  EXPECT_EQ(test::ReadFile(log).find("XMLPARSER"), std::string::npos) << test::ReadFile(log);
 }
 
 }  // namespace
