@@ -38,7 +38,12 @@ RunConfig ServeRunConfig(const ServeCommandOptions& options) {
   RunConfig base;  // serve's defaults are dslam run's, under the configuration file
   base.backend.default_mode = MotionMode::kSmoothed;
   base.backend.schedule = {ScheduleKind::kSlidingWindow, 10};
-  return options.config_path ? LoadRunConfig(*options.config_path, base) : base;
+  RunConfig config = options.config_path ? LoadRunConfig(*options.config_path, base) : base;
+  // Estimates leave serve frame by frame; a batch solve has none until the stream ends.
+  if (config.backend.schedule.kind == ScheduleKind::kBatch)
+    throw std::invalid_argument(*options.config_path + ": backend.schedule batch is an offline schedule (dslam run "
+                                "--schedule batch); serve estimates online: use window:W");
+  return config;
 }
 
 int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::ostream& err) {

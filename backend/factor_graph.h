@@ -132,6 +132,16 @@ struct LinearPointFactor {
   PoseBlock motion_lin{};  // of H_anchor
   Eigen::Matrix<double, 6, 15> J = Eigen::Matrix<double, 6, 15>::Zero();  // columns: camera, point, motion
   Vec6 r0 = Vec6::Zero();
+
+  // The residual at these values (`camera` null once its columns were folded into r0): the one definition the
+  // marginalisation and the window solver share.
+  Vec6 residual(const double* camera, const Vec3& point, const double* motion) const {
+    Eigen::Matrix<double, 15, 1> d = Eigen::Matrix<double, 15, 1>::Zero();
+    if (camera) d.head<6>() = PoseBlockMinus(camera, camera_lin.data());
+    d.segment<3>(6) = point - point_lin;
+    d.tail<6>() = PoseBlockMinus(motion, motion_lin.data());
+    return r0 + J * d;
+  }
 };
 
 struct FrameFactors {

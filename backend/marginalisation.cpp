@@ -37,11 +37,8 @@ void EraseIf(std::vector<T>& items, Pred pred) {
 
 // The residual of a linear factor at the graph's current values.
 Vec6 LinearFactorResidual(const FactorGraph& graph, const LinearPointFactor& lf) {
-  Eigen::Matrix<double, 15, 1> d = Eigen::Matrix<double, 15, 1>::Zero();
-  if (lf.camera_frame >= 0) d.head<6>() = PoseBlockMinus(graph.camera(lf.camera_frame), lf.camera_lin.data());
-  d.segment<3>(6) = graph.points.at(lf.point_var).position() - lf.point_lin;
-  d.tail<6>() = PoseBlockMinus(graph.motions.at(lf.motion_var).H_anchor.data(), lf.motion_lin.data());
-  return lf.r0 + lf.J * d;
+  return lf.residual(lf.camera_frame >= 0 ? graph.camera(lf.camera_frame) : nullptr,
+                     graph.points.at(lf.point_var).position(), graph.motions.at(lf.motion_var).H_anchor.data());
 }
 
 }  // namespace

@@ -329,13 +329,7 @@ class WindowProblem {
   Vec3 point(int i) const { return points_[i]->position(); }
 
   Vec6 linearResidual(const Linear& l) const {
-    const LinearPointFactor& f = *l.factor;
-    Eigen::Matrix<double, 15, 1> d = Eigen::Matrix<double, 15, 1>::Zero();
-    const double* cam = l.camera >= 0 ? poses_[l.camera] : l.camera_value;
-    if (cam) d.head<6>() = PoseBlockMinus(cam, f.camera_lin.data());
-    d.segment<3>(6) = point(l.point) - f.point_lin;
-    d.tail<6>() = PoseBlockMinus(poses_[l.motion], f.motion_lin.data());
-    return f.r0 + f.J * d;
+    return l.factor->residual(l.camera >= 0 ? poses_[l.camera] : l.camera_value, point(l.point), poses_[l.motion]);
   }
 
   // Point groups: connected components of the point-motion factors between two point variables.

@@ -99,6 +99,11 @@ TEST(ServeCommand, ExitsTwoOnBadOptionsAndFourWhenItsOutputFolderIsInUse) {
   EXPECT_NE(err.str().find("--node-name: node name 'dslam/front' is not a ROS 2 node name"), std::string::npos)
       << err.str();
   bad = options;
+  std::ofstream(dir + "/batch.yaml") << "backend:\n  schedule: batch\n";
+  bad.config_path = dir + "/batch.yaml";  // serve publishes each frame's estimate: no offline schedule
+  EXPECT_EQ(RunServeCommand(bad, out, err), 2) << err.str();
+  EXPECT_NE(err.str().find("batch.yaml: backend.schedule batch is an offline schedule"), std::string::npos) << err.str();
+  bad = options;
   // Masks from a LiDAR whose pose the calibration does not give.
   bad.config_path = std::string(DSLAM_SOURCE_DIR) + "/config/kitti_raw_traffic.yaml";
   EXPECT_EQ(RunServeCommand(bad, out, err), 2) << err.str();
