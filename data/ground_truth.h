@@ -20,8 +20,15 @@ struct ObjectGroundTruth {
   std::map<int, SE3> L_world_object;   // object pose per frame (body frame: dataset-defined)
   std::map<int, Vec3> centroid_world;  // reference point whose displacement defines the true speed
   std::set<int> observed_frames;       // frames in which the sensor sees it (after range gating)
+  // Frames k whose pair k-1 -> k can be measured: at least kMinMeasurablePoints of the same surface points
+  // seen in both frames. Known where the source knows its points (the simulator, the replay); absent
+  // elsewhere.
+  std::optional<std::set<int>> measurable_frames;
   std::optional<Vec3> box_lwh;         // box size (length, width, height) when the object is a box
 };
+
+// Points of one surface seen in both frames of a pair for the pair to count as measurable.
+constexpr int kMinMeasurablePoints = 3;
 
 struct GroundTruth {
   std::vector<SE3> T_world_camera;  // one per frame

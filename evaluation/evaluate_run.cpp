@@ -1,5 +1,7 @@
 #include "evaluation/evaluate_run.h"
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <utility>
 
@@ -20,6 +22,16 @@ std::optional<ObjectPairSample> GroundTruthPair(const GroundTruth& gt, double fr
   s.H_world_gt = obj.L_world_object.at(k) * L_prev.inverse();
   const Vec3& c_prev = obj.centroid_world.at(k - 1);
   s.speed_gt_mps = (s.H_world_gt * c_prev - c_prev).norm() * frame_rate_hz;
+  // Over the frames k-h .. k-1+h (h = half a second of frames) where the object has a pose: about a second
+  // centred on the pair, shorter at the ends of its track.
+  const int h = std::max(1, static_cast<int>(std::lround(0.5 * frame_rate_hz)));
+  const auto first = obj.centroid_world.lower_bound(k - h);
+  auto last = obj.centroid_world.upper_bound(k - 1 + h);
+  --last;  // k is in the map: the pair has poses
+  s.window_speed_gt_mps = first->first < last->first ? (last->second - first->second).norm() * frame_rate_hz /
+                                                            static_cast<double>(last->first - first->first)
+                                                      : s.speed_gt_mps;
+  if (obj.measurable_frames) s.measurable = obj.measurable_frames->count(k) > 0;
   return s;
 }
 
@@ -72,14 +84,14 @@ MethodMetrics EvaluateEstimate(const Sequence& seq, const Estimate& est, bool es
 }
 
 void ObjectSummaries::add(const ObjectPairSample& s, const std::string& category) {
-  addPair(s.object_id, category);
+  addPair(s, category);
   if (s.estimated) addEstimate(s);
 }
 
-void ObjectSummaries::addPair(int object_id, const std::string& category) {
-  PerObject& o = objects_[object_id];
+void ObjectSummaries::addPair(const ObjectPairSample& pair, const std::string& category) {
+  PerObject& o = objects_[pair.object_id];
   o.category = category;
-  o.metrics.addPair();
+  o.metrics.addPair(pair);
 }
 
 void ObjectSummaries::addEstimate(const ObjectPairSample& s) {

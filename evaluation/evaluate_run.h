@@ -54,7 +54,7 @@ class ObjectSummaries {
  public:
   void add(const ObjectPairSample& sample, const std::string& category);
   // In two steps, as ObjectMetricsAccumulator.
-  void addPair(int object_id, const std::string& category);
+  void addPair(const ObjectPairSample& pair, const std::string& category);
   void addEstimate(const ObjectPairSample& sample);
   // One summary per object with a sample, by id.
   std::vector<ObjectSummary> result() const;

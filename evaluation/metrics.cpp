@@ -69,8 +69,15 @@ SE3 ObjectMotionError(const ObjectPairSample& s) {
 }
 
 void ObjectMetricsAccumulator::add(const ObjectPairSample& s) {
-  addPair();
+  addPair(s);
   if (s.estimated) addEstimate(s);
+}
+
+void ObjectMetricsAccumulator::addPair(const ObjectPairSample& pair) {
+  ++counts_.gt_pairs;
+  if (!pair.gtMoving()) return;
+  ++counts_.gt_moving_pairs;
+  if (pair.measurable) counts_.measurable_moving_pairs = counts_.measurable_moving_pairs.value_or(0) + *pair.measurable;
 }
 
 void ObjectMetricsAccumulator::addEstimate(const ObjectPairSample& s) {
@@ -82,6 +89,7 @@ void ObjectMetricsAccumulator::addEstimate(const ObjectPairSample& s) {
     return;
   }
   ++counts_.moving_pairs_estimated;
+  measurable_moving_estimated_ += s.measurable.value_or(false);
   const SE3 e = ObjectMotionError(s);
   const SE3& L = s.L_world_object_gt_prev;
   sum_e_t_ += e.translation().norm();
@@ -93,7 +101,9 @@ void ObjectMetricsAccumulator::addEstimate(const ObjectPairSample& s) {
 
 ObjectMetrics ObjectMetricsAccumulator::result() const {
   ObjectMetrics m = counts_;
-  if (m.gt_pairs > 0) m.object_coverage = static_cast<double>(m.estimated_pairs) / m.gt_pairs;
+  if (m.gt_moving_pairs > 0) m.object_coverage = static_cast<double>(m.moving_pairs_estimated) / m.gt_moving_pairs;
+  if (m.measurable_moving_pairs.value_or(0) > 0)
+    m.object_coverage_measurable = static_cast<double>(measurable_moving_estimated_) / *m.measurable_moving_pairs;
   if (m.moving_pairs_estimated > 0) {
     const double n = m.moving_pairs_estimated;
     if (sum_gt_t_ > 0.0) {

@@ -59,7 +59,14 @@ struct ObjectPairSample {
   int frame = 0;
   SE3 H_world_gt;
   SE3 L_world_object_gt_prev;  // ground-truth object pose at k-1, for the body-frame comparison
-  double speed_gt_mps = 0.0;
+  double speed_gt_mps = 0.0;  // of the pair itself: what OMSE compares the estimate with
+  // The object's centroid speed averaged over about a second centred on the pair (net displacement over
+  // time): what decides whether the pair is moving. KITTI's box labels jitter by centimetres a frame, so a
+  // parked car's single pair can pass 1 m/s; over a second the jitter cancels.
+  double window_speed_gt_mps = 0.0;
+  // Enough of the same surface seen in both frames to measure the motion (GroundTruth::measurable_frames);
+  // absent where the ground truth cannot tell.
+  std::optional<bool> measurable;
   bool estimated = false;
   SE3 H_world_est;
   double speed_est_mps = 0.0;
@@ -67,11 +74,13 @@ struct ObjectPairSample {
   Mat6 covariance_est = Mat6::Zero();  // of the estimate (ObjectMotionEstimate::covariance)
   double speed_sigma_est_mps = 0.0;
 
-  bool gtMoving() const { return speed_gt_mps >= kMovingSpeedThresholdMps; }
+  bool gtMoving() const { return window_speed_gt_mps >= kMovingSpeedThresholdMps; }
 };
 
 struct ObjectMetrics {
   int gt_pairs = 0;
+  int gt_moving_pairs = 0;
+  std::optional<int> measurable_moving_pairs;  // when the ground truth tells which pairs are measurable
   int estimated_pairs = 0;
   int moving_pairs_estimated = 0;
   int static_pairs_estimated = 0;
@@ -81,7 +90,8 @@ struct ObjectMetrics {
   std::optional<double> me_t_m;
   std::optional<double> me_r_deg;
   std::optional<double> speed_err_mps;
-  std::optional<double> object_coverage;          // estimated / ground-truth pairs
+  std::optional<double> object_coverage;             // moving pairs estimated / moving ground-truth pairs
+  std::optional<double> object_coverage_measurable;  // the same over the measurable moving pairs
   std::optional<double> static_mean_speed_mps;    // over estimated static pairs
   std::optional<double> static_false_dynamic_frac;
 };
@@ -95,8 +105,8 @@ class ObjectMetricsAccumulator {
   // A ground-truth pair and, when it has one, its estimate.
   void add(const ObjectPairSample& sample);
   // The same in two steps, for a run that knows its pairs before their estimates are final: every
-  // pair once, and later the estimated ones.
-  void addPair() { ++counts_.gt_pairs; }
+  // pair once (its estimate fields unused), and later the estimated ones.
+  void addPair(const ObjectPairSample& pair);
   void addEstimate(const ObjectPairSample& sample);
   ObjectMetrics result() const;
 
@@ -105,6 +115,7 @@ class ObjectMetricsAccumulator {
   double sum_e_t_ = 0.0, sum_e_r_deg_ = 0.0, sum_gt_t_ = 0.0, sum_speed_err_ = 0.0, sum_speed_gt_ = 0.0;
   double sum_static_speed_ = 0.0;
   int false_dynamic_ = 0;
+  int measurable_moving_estimated_ = 0;
 };
 
 ObjectMetrics ComputeObjectMetrics(const std::vector<ObjectPairSample>& samples);

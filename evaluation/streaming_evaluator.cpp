@@ -18,10 +18,11 @@ void StreamingEvaluator::frameMade(const FrameMeasurement& frame) {
   ++frames_made_;
   if (!estimates_objects_) return;
   for (const ObjectObservation& obs : frame.objects) {
-    if (!GroundTruthPair(gt_, frame_rate_hz_, obs.object_id, frame.frame_index)) continue;
+    const std::optional<ObjectPairSample> pair = GroundTruthPair(gt_, frame_rate_hz_, obs.object_id, frame.frame_index);
+    if (!pair) continue;
     const std::string& category = gt_.objects.at(obs.object_id).category;
-    summaries_.addPair(obs.object_id, category);
-    if (category_.empty() || category == category_) objects_.addPair();
+    summaries_.addPair(*pair, category);
+    if (category_.empty() || category == category_) objects_.addPair(*pair);
   }
 }
 

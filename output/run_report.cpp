@@ -90,6 +90,7 @@ nlohmann::json MethodMetricsJson(const MethodMetrics& m, double wall_time_s) {
   j["me_r_deg"] = Opt(o ? o->me_r_deg : std::nullopt);
   j["speed_err_mps"] = Opt(o ? o->speed_err_mps : std::nullopt);
   j["object_coverage"] = Opt(o ? o->object_coverage : std::nullopt);
+  j["object_coverage_measurable"] = Opt(o ? o->object_coverage_measurable : std::nullopt);
   // Beyond the fixed schema: context a reader needs to interpret the figures above.
   j["speed_err_kmh"] = Opt(o && o->speed_err_mps ? std::optional<double>(*o->speed_err_mps * 3.6) : std::nullopt);
   j["camera_path_m"] = m.camera.path_length_m;
@@ -98,6 +99,7 @@ nlohmann::json MethodMetricsJson(const MethodMetrics& m, double wall_time_s) {
   j["static_pairs_mean_speed_mps"] = Opt(o ? o->static_mean_speed_mps : std::nullopt);
   j["static_pairs_false_dynamic_frac"] = Opt(o ? o->static_false_dynamic_frac : std::nullopt);
   j["object_gt_pairs"] = o ? nlohmann::json(o->gt_pairs) : nlohmann::json(nullptr);
+  j["object_gt_moving_pairs"] = o ? nlohmann::json(o->gt_moving_pairs) : nlohmann::json(nullptr);
   j["object_moving_pairs_estimated"] = o ? nlohmann::json(o->moving_pairs_estimated) : nlohmann::json(nullptr);
   j["wall_time_s"] = wall_time_s;
   return j;
@@ -172,6 +174,7 @@ std::string FormatMetricsTable(const MethodOutcomes& outcomes, const std::string
       {"Object ME_r (deg)", obj(&ObjectMetrics::me_r_deg), 4},
       {"Speed error (m/s)", obj(&ObjectMetrics::speed_err_mps), 3},
       {"Object coverage", obj(&ObjectMetrics::object_coverage), 3},
+      {"  of measurable pairs", obj(&ObjectMetrics::object_coverage_measurable), 3},
   };
   const std::vector<Method> columns = {Method::kStaticOnly, Method::kSlamMot, Method::kOurs};
   std::ostringstream out;

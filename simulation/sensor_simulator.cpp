@@ -1,6 +1,7 @@
 #include "simulation/sensor_simulator.h"
 
 #include <algorithm>
+#include <iterator>
 #include <memory>
 #include <random>
 #include <unordered_map>
@@ -89,6 +90,7 @@ SensorSimulator::SensorSimulator(SimWorld world, const SensorModel& sensor, cons
     SimObject& obj = world.objects[j];
     ObjectGroundTruth& o = gt_.objects[obj.object_id];
     o.object_id = obj.object_id;
+    o.measurable_frames.emplace();
     o.category = obj.category;
     o.box_lwh = obj.box_lwh;
     for (const auto& [k, L] : obj.L_world_object) {
@@ -126,7 +128,9 @@ FrameMeasurement SensorSimulator::next() {
   }
 
   for (size_t j = 0; j < bodies_.size(); ++j) {
-    const Body& body = bodies_[j];
+    Body& body = bodies_[j];
+    std::vector<size_t> seen_before;
+    seen_before.swap(body.seen_last_frame);  // empty unless measured in frame k-1
     if (k < body.first_frame || k > body.last_frame || body.occluded_frames.count(k)) continue;
     ObjectGroundTruth& o = gt_.objects[body.object_id];
     const auto pose = o.L_world_object.find(k);
@@ -136,6 +140,7 @@ FrameMeasurement SensorSimulator::next() {
     const Vec3 camera_in_object = T_camera_object.inverse().translation();
     ObjectObservation obs;
     obs.object_id = body.object_id;
+    std::vector<size_t> seen;
     for (size_t i = 0; i < body.surface.size(); ++i) {
       const SurfacePoint& s = body.surface[i];
       if (s.normal_body.dot(camera_in_object - s.p_body) <= 0.0) continue;  // back face
@@ -143,9 +148,15 @@ FrameMeasurement SensorSimulator::next() {
       if (p.z() < sensor_.min_depth_m || !sensor_.camera.inImage(p)) continue;
       obs.points.push_back({kObjectTrackBase + static_cast<int64_t>(j) * kTracksPerObject + static_cast<int64_t>(i),
                             p + GaussianVec3(rng_, noise_.point_sigma_m)});
+      seen.push_back(i);
     }
     if (static_cast<int>(obs.points.size()) < sensor_.min_object_points) continue;
     o.observed_frames.insert(k);
+    // The pair k-1 -> k is measurable when enough of the same surface points are seen in both frames.
+    std::vector<size_t> both;
+    std::set_intersection(seen.begin(), seen.end(), seen_before.begin(), seen_before.end(), std::back_inserter(both));
+    if (static_cast<int>(both.size()) >= kMinMeasurablePoints) o.measurable_frames->insert(k);
+    body.seen_last_frame = std::move(seen);
     frame.objects.push_back(std::move(obs));
   }
   return frame;

@@ -84,6 +84,7 @@ class SensorSimulator {
     int first_frame, last_frame;
     std::vector<SurfacePoint> surface;
     std::set<int> occluded_frames;
+    std::vector<size_t> seen_last_frame;  // surface points measured in the previous frame (sorted)
   };
   std::string name_;
   double frame_rate_hz_;

@@ -74,5 +74,40 @@ TEST(EvaluateRun, WithoutAMappingTheGroundTruthIdsAreTheRuns) {
   EXPECT_NEAR(*m.objects->omse_pct, 0.0, 1e-9);
 }
 
+
+// A pair is moving when the centroid's net displacement over about a second centred on it is 1 m/s or more:
+// a parked car whose label jitters by 12 cm a frame (1.2 m/s pair by pair) is standing; a car at 2 m/s moves;
+// one at 0.5 m/s does not. Near the ends of a track the window is what the track has.
+TEST(EvaluateRun, APairIsMovingByItsCentroidsSpeedOverASecondNotByItsJitter) {
+  GroundTruth gt;
+  auto add = [&](int id, auto centroid) {
+    ObjectGroundTruth o;
+    o.object_id = id;
+    for (int k = 0; k < 30; ++k) {
+      o.centroid_world[k] = centroid(k);
+      o.L_world_object[k] = SE3(Mat3::Identity(), centroid(k));
+      o.observed_frames.insert(k);
+    }
+    gt.objects[id] = o;
+  };
+  add(1, [](int k) { return Vec3(k % 2 ? 0.12 : 0.0, 0.0, 10.0); });  // jitter
+  add(2, [](int k) { return Vec3(0.2 * k, 0.0, 10.0); });              // 2 m/s at 10 Hz
+  add(3, [](int k) { return Vec3(0.05 * k, 0.0, 10.0); });             // 0.5 m/s
+  for (int k : {1, 2, 15, 29}) {
+    const auto jitter = GroundTruthPair(gt, 10.0, 1, k), car = GroundTruthPair(gt, 10.0, 2, k),
+               slow = GroundTruthPair(gt, 10.0, 3, k);
+    ASSERT_TRUE(jitter && car && slow);
+    EXPECT_NEAR(jitter->speed_gt_mps, 1.2, 1e-9) << k;  // the pair's own displacement, for OMSE
+    EXPECT_FALSE(jitter->gtMoving()) << k << ": " << jitter->window_speed_gt_mps;
+    EXPECT_TRUE(car->gtMoving()) << k;
+    EXPECT_NEAR(car->window_speed_gt_mps, 2.0, 1e-9) << k;
+    EXPECT_FALSE(slow->gtMoving()) << k;
+    EXPECT_FALSE(car->measurable.has_value());  // this ground truth does not say
+  }
+  gt.objects[2].measurable_frames = std::set<int>{15};
+  EXPECT_EQ(GroundTruthPair(gt, 10.0, 2, 15)->measurable, std::optional<bool>(true));
+  EXPECT_EQ(GroundTruthPair(gt, 10.0, 2, 16)->measurable, std::optional<bool>(false));
+}
+
 }  // namespace
 }  // namespace dslam

@@ -59,6 +59,7 @@ ObjectPairSample Pair(const SE3& H_gt, const SE3& H_est, double speed_gt, double
   s.H_world_gt = H_gt;
   s.H_world_est = H_est;
   s.speed_gt_mps = speed_gt;
+  s.window_speed_gt_mps = speed_gt;  // steady: the pair's speed is the second's around it
   s.speed_est_mps = speed_est;
   s.estimated = estimated;
   s.est_dynamic = true;
@@ -145,14 +146,16 @@ TEST(ObjectMetrics, PairsFirstAndEstimatesLaterInAnyOrderEqualOnePass) {
                                                  Pair(At(0, 0, 0.01), At(0, 0.2, 0), 0.1, 2.0)};
   const ObjectMetrics one_pass = ComputeObjectMetrics(samples);
   ObjectMetricsAccumulator two_steps;
-  for (size_t i = 0; i < samples.size(); ++i) two_steps.addPair();
+  for (const ObjectPairSample& s : samples) two_steps.addPair(s);
   for (auto it = samples.rbegin(); it != samples.rend(); ++it)
     if (it->estimated) two_steps.addEstimate(*it);
   const ObjectMetrics m = two_steps.result();
   EXPECT_EQ(m.gt_pairs, 4);
   EXPECT_EQ(m.estimated_pairs, 3);
   EXPECT_EQ(m.static_pairs_estimated, 1);
-  EXPECT_NEAR(*m.object_coverage, 0.75, 1e-12);
+  EXPECT_EQ(m.gt_moving_pairs, 3);
+  EXPECT_NEAR(*m.object_coverage, 2.0 / 3.0, 1e-12);  // over the moving pairs
+  EXPECT_NEAR(*one_pass.object_coverage, 2.0 / 3.0, 1e-12);
   EXPECT_NEAR(*m.omte_pct, *one_pass.omte_pct, 1e-12);
   EXPECT_NEAR(*m.omse_pct, *one_pass.omse_pct, 1e-12);
   EXPECT_NEAR(*m.static_mean_speed_mps, 2.0, 1e-12);
@@ -167,5 +170,28 @@ TEST(CameraMetrics, TheAccumulatorCountsItsPoses) {
   EXPECT_NEAR(acc.result().ate_m, std::sqrt(0.04 / 2.0), 1e-12);
   EXPECT_NEAR(*acc.result().rte_pct, 10.0, 1e-9);
 }
+
+// Coverage counts the moving pairs, and a second time the measurable ones among them: a moving pair whose
+// object shows too little of the same surface in both frames lowers the first, not the second.
+TEST(ObjectMetrics, CoverageOverMovingPairsAndOverMeasurableOnes) {
+  ObjectPairSample seen = Pair(At(1, 0, 0), At(1, 0, 0), 10.0, 10.0);
+  seen.measurable = true;
+  ObjectPairSample hidden = Pair(At(1, 0, 0), At(1, 0, 0), 10.0, 0.0, false);
+  hidden.measurable = false;  // e.g. a car behind another, two points of it in view
+  ObjectPairSample missed = Pair(At(1, 0, 0), At(1, 0, 0), 10.0, 0.0, false);
+  missed.measurable = true;
+  ObjectPairSample parked = Pair(SE3::Identity(), SE3::Identity(), 0.0, 0.0, false);
+  parked.measurable = true;  // static: in neither coverage
+  const ObjectMetrics m = ComputeObjectMetrics({seen, hidden, missed, parked});
+  EXPECT_EQ(m.gt_pairs, 4);
+  EXPECT_EQ(m.gt_moving_pairs, 3);
+  ASSERT_TRUE(m.measurable_moving_pairs);
+  EXPECT_EQ(*m.measurable_moving_pairs, 2);
+  EXPECT_NEAR(*m.object_coverage, 1.0 / 3.0, 1e-12);
+  EXPECT_NEAR(*m.object_coverage_measurable, 0.5, 1e-12);
+  // Where the ground truth cannot tell, there is no measurable coverage.
+  EXPECT_FALSE(ComputeObjectMetrics({Pair(At(1, 0, 0), At(1, 0, 0), 10.0, 10.0)}).object_coverage_measurable);
+}
+
 }  // namespace
 }  // namespace dslam

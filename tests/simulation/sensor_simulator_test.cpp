@@ -51,6 +51,10 @@ TEST(SensorSimulator, WithoutNoiseItMeasuresTheTruthInTheCameraFrame) {
   EXPECT_TRUE(seq.gt.objects.at(2).observed_frames.empty());
   EXPECT_EQ(seq.gt.objects.at(1).observed_frames, (std::set<int>{0, 1, 3}));
   EXPECT_TRUE(seq.frames[2].objects.empty());
+  // A pair is measurable when the same surface points are seen in both frames: 0 -> 1 only (hidden in 2,
+  // so 2 -> 3 has nothing of frame 2 to compare with).
+  ASSERT_TRUE(seq.gt.objects.at(1).measurable_frames.has_value());
+  EXPECT_EQ(*seq.gt.objects.at(1).measurable_frames, (std::set<int>{1}));
   // Only the faces turned to the camera: straight behind it and below its top, that is the rear face (9 m
   // ahead), not the sides, the top or the far face.
   ASSERT_EQ(seq.frames[0].objects.size(), 1u);
