@@ -1,5 +1,7 @@
 #include "data/png_check.h"
 
+#include <zlib.h>
+
 #include <algorithm>
 #include <array>
 
@@ -38,6 +40,10 @@ std::string FindPngProblem(const std::vector<unsigned char>& bytes, int64_t max_
     if (end > size)
       return "PNG cut off in chunk " + type + " at byte " + std::to_string(size) + " (the chunk ends at byte " +
              std::to_string(end) + ")";
+    // The CRC covers the chunk's type and data.
+    const uLong crc = crc32(crc32(0L, Z_NULL, 0), head + 4, static_cast<uInt>(4 + length));
+    if (crc != BigEndian32(bytes.data() + end - 4))
+      return "PNG chunk " + type + " at byte " + std::to_string(at) + " fails its checksum (damaged)";
     if (type == "IEND") return {};
     at = end;
   }

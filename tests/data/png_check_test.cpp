@@ -45,5 +45,31 @@ TEST(PngCheck, AWholePngPassesACutOneIsNamedAndOtherFilesGoToTheDecoder) {
   fs::remove_all(dir);
 }
 
+
+// A byte changed inside the image data (bit rot, a bad copy) fails that chunk's checksum: named, before libpng
+// would print its own "libpng error" line.
+TEST(PngCheck, ADamagedChunkFailsItsChecksum) {
+  const std::string dir = test::TempPath("png_check_crc");
+  fs::create_directories(dir);
+  cv::Mat image(120, 200, CV_8UC3);
+  cv::randu(image, 0, 255);
+  ASSERT_TRUE(cv::imwrite(dir + "/whole.png", image));
+  const std::vector<unsigned char> bytes = Bytes(dir + "/whole.png");
+  const std::string data(bytes.begin(), bytes.end());
+  const size_t idat = data.find("IDAT");
+  ASSERT_NE(idat, std::string::npos);
+  for (size_t offset : {size_t{10}, size_t{500}, size_t{2000}}) {
+    std::vector<unsigned char> damaged = bytes;
+    damaged[idat + 4 + offset] ^= 0x01;
+    const std::string problem = FindPngProblem(damaged, 1'000'000);
+    EXPECT_NE(problem.find("chunk IDAT at byte " + std::to_string(idat - 4) + " fails its checksum"), std::string::npos)
+        << offset << ": " << problem;
+  }
+  std::vector<unsigned char> damaged_header = bytes;
+  damaged_header[24] ^= 0x01;  // IHDR's bit depth
+  EXPECT_NE(FindPngProblem(damaged_header, 1'000'000).find("chunk IHDR at byte 8 fails its checksum"), std::string::npos);
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace dslam
