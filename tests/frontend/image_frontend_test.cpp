@@ -163,6 +163,38 @@ TEST(ImageFrontend, OdometryThatContradictsThePnpMotionIsDroppedAndCounted) {
   EXPECT_THROW(ImageFrontend(params, Camera()), std::invalid_argument);
 }
 
+// After dropped frames (serve composes their odometry into the next frame's), the flow spans several frames'
+// motion, where look-alikes can give a well-supported but wrong PnP: odometry that PnP contradicts is kept
+// there, with the static points that agree with it. Without a gap the same contradiction drops the odometry.
+TEST(ImageFrontend, AfterAGapOdometryThatPnpContradictsIsKept) {
+  const Vec6 sigma = (Vec6() << 0.03, 0.03, 0.03, 0.005, 0.005, 0.005).finished();
+  // 0.3 m along the optical axis off the true motion: 10 sigma.
+  auto odometry = [&](int steps) {
+    return OdometryMeasurement{SE3(Eigen::Quaterniond::Identity(), Vec3(steps * kCameraStepM, 0.0, 0.3)), sigma};
+  };
+  ImageFrontend steady(Params(), Camera());
+  steady.process(MakeFrame(0));
+  steady.process(MakeFrame(1));
+  ImageFrame next = MakeFrame(2);
+  next.odometry = odometry(1);
+  const FrameMeasurement without_gap = steady.process(next);
+  EXPECT_TRUE(steady.lastStats().odometry_rejected);
+  EXPECT_FALSE(without_gap.odometry);
+
+  ImageFrontend gapped(Params(), Camera());
+  gapped.process(MakeFrame(0));
+  gapped.process(MakeFrame(1));
+  ImageFrame after = MakeFrame(3);  // frame 2 dropped: 0.2 s since frame 1
+  after.frame_index = 2;            // the front-end's own count goes on
+  after.odometry = odometry(2);
+  const FrameMeasurement with_gap = gapped.process(after);
+  EXPECT_FALSE(gapped.lastStats().odometry_rejected);
+  ASSERT_TRUE(with_gap.odometry);
+  ASSERT_TRUE(with_gap.camera_motion_guess);
+  EXPECT_LT((with_gap.camera_motion_guess->translation() - after.odometry->T_prev_curr.translation()).norm(), 1e-9);
+  EXPECT_GT(with_gap.static_points.size(), 0u);
+}
+
 TEST(ImageFrontend, FollowsTheBoxWhenTheSegmenterRelabelsItEveryFrame) {
   FrontendParams params = Params();
   params.association.mask_ids_tracked = false;
