@@ -23,6 +23,7 @@ struct ObjectMotionEstimate {
   // rotation] of H expressed about the object's anchor (its points' centroid when the motion was
   // created), the rotation perturbed on the right; zero when unknown (batch, or reported standing).
   Mat6 covariance = Mat6::Zero();
+  Vec3 anchor_world = Vec3::Zero();  // the point the covariance's tangent is about
   double speed_sigma_mps = 0.0;  // of speed_mps, from `covariance`; 0 when unknown
   // Where the object is in frame `frame`, from its measurement: the centroid of its measured points in
   // that frame's camera, and its box in that image (absent when the source gives no image).

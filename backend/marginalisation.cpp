@@ -76,6 +76,7 @@ ObjectMotionEstimate MotionEstimateOf(const FactorGraph& graph, const ObjectTran
   if (m.is_dynamic) {
     const MotionVariable& motion = graph.motions.at(tr.motion_var);
     m.covariance = motion.covariance;
+    m.anchor_world = motion.anchor_world;
     m.speed_sigma_mps = SpeedSigmaMps(motion, m.centroid_prev_world, m.velocity_world_per_frame, frame_rate_hz);
   }
   return m;

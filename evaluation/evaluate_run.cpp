@@ -41,6 +41,7 @@ void SetEstimate(const ObjectMotionEstimate& motion, ObjectPairSample* s) {
   s->speed_est_mps = motion.speed_mps;
   s->est_dynamic = motion.is_dynamic;
   s->covariance_est = motion.covariance;
+  s->anchor_est = motion.anchor_world;
   s->speed_sigma_est_mps = motion.speed_sigma_mps;
 }
 

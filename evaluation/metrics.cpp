@@ -1,5 +1,7 @@
 #include "evaluation/metrics.h"
 
+#include <Eigen/Cholesky>
+
 #include <cmath>
 #include <stdexcept>
 
@@ -90,6 +92,7 @@ void ObjectMetricsAccumulator::addEstimate(const ObjectPairSample& s) {
   }
   ++counts_.moving_pairs_estimated;
   measurable_moving_estimated_ += s.measurable.value_or(false);
+  if (const std::optional<double> nees = MotionNees(s)) sum_nees_ += *nees, ++nees_pairs_;
   const SE3 e = ObjectMotionError(s);
   const SE3& L = s.L_world_object_gt_prev;
   sum_e_t_ += e.translation().norm();
@@ -97,6 +100,19 @@ void ObjectMetricsAccumulator::addEstimate(const ObjectPairSample& s) {
   sum_gt_t_ += (L.inverse() * s.H_world_gt * L).translation().norm();
   sum_speed_err_ += std::abs(s.speed_est_mps - s.speed_gt_mps);
   sum_speed_gt_ += s.speed_gt_mps;
+}
+
+std::optional<double> MotionNees(const ObjectPairSample& s) {
+  if (!s.estimated || s.covariance_est.isZero(0.0)) return std::nullopt;
+  const Eigen::LDLT<Mat6> ldlt(s.covariance_est);
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || (ldlt.vectorD().array() <= 0.0).any()) return std::nullopt;
+  // H about the anchor c: (R, t + R c - c); its tangent error: translation difference, rotation on the right.
+  const Vec3& c = s.anchor_est;
+  const Vec3 t_gt = s.H_world_gt.translation() + s.H_world_gt.rotation() * c - c;
+  const Vec3 t_est = s.H_world_est.translation() + s.H_world_est.rotation() * c - c;
+  Vec6 e;
+  e << t_est - t_gt, RotationLog(s.H_world_gt.rotation().conjugate() * s.H_world_est.rotation());
+  return e.dot(ldlt.solve(e));
 }
 
 ObjectMetrics ObjectMetricsAccumulator::result() const {
@@ -115,6 +131,7 @@ ObjectMetrics ObjectMetricsAccumulator::result() const {
     m.me_r_deg = sum_e_r_deg_ / n;
     m.speed_err_mps = sum_speed_err_ / n;
   }
+  if (nees_pairs_ > 0) m.motion_nees = sum_nees_ / nees_pairs_;
   if (m.static_pairs_estimated > 0) {
     m.static_mean_speed_mps = sum_static_speed_ / m.static_pairs_estimated;
     m.static_false_dynamic_frac = static_cast<double>(false_dynamic_) / m.static_pairs_estimated;

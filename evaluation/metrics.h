@@ -72,6 +72,7 @@ struct ObjectPairSample {
   double speed_est_mps = 0.0;
   bool est_dynamic = false;
   Mat6 covariance_est = Mat6::Zero();  // of the estimate (ObjectMotionEstimate::covariance)
+  Vec3 anchor_est = Vec3::Zero();      // the point that covariance's tangent is about
   double speed_sigma_est_mps = 0.0;
 
   bool gtMoving() const { return window_speed_gt_mps >= kMovingSpeedThresholdMps; }
@@ -92,6 +93,9 @@ struct ObjectMetrics {
   std::optional<double> speed_err_mps;
   std::optional<double> object_coverage;             // moving pairs estimated / moving ground-truth pairs
   std::optional<double> object_coverage_measurable;  // the same over the measurable moving pairs
+  // Mean normalised estimation error squared of the moving pairs' motions, e^T Cov^-1 e over the 6-dof
+  // tangent of the covariance: 6 when the reported covariance is honest (larger: overconfident).
+  std::optional<double> motion_nees;
   std::optional<double> static_mean_speed_mps;    // over estimated static pairs
   std::optional<double> static_false_dynamic_frac;
 };
@@ -116,8 +120,14 @@ class ObjectMetricsAccumulator {
   double sum_static_speed_ = 0.0;
   int false_dynamic_ = 0;
   int measurable_moving_estimated_ = 0;
+  double sum_nees_ = 0.0;
+  int nees_pairs_ = 0;
 };
 
 ObjectMetrics ComputeObjectMetrics(const std::vector<ObjectPairSample>& samples);
+
+// The estimate's error e^T Cov^-1 e in its covariance's tangent ([translation; rotation] of H about the anchor,
+// the rotation perturbed on the right); nullopt when the sample has no positive-definite covariance.
+std::optional<double> MotionNees(const ObjectPairSample& sample);
 
 }  // namespace dslam

@@ -91,6 +91,7 @@ nlohmann::json MethodMetricsJson(const MethodMetrics& m, double wall_time_s) {
   j["speed_err_mps"] = Opt(o ? o->speed_err_mps : std::nullopt);
   j["object_coverage"] = Opt(o ? o->object_coverage : std::nullopt);
   j["object_coverage_measurable"] = Opt(o ? o->object_coverage_measurable : std::nullopt);
+  j["motion_nees"] = Opt(o ? o->motion_nees : std::nullopt);
   // Beyond the fixed schema: context a reader needs to interpret the figures above.
   j["speed_err_kmh"] = Opt(o && o->speed_err_mps ? std::optional<double>(*o->speed_err_mps * 3.6) : std::nullopt);
   j["camera_path_m"] = m.camera.path_length_m;

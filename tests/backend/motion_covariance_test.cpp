@@ -38,6 +38,7 @@ TEST(MotionCovariance, SpeedSigmaFollowsTheTranslationAlongTheVelocity) {
 struct Calibration {
   int pairs = 0;
   double within_1 = 0.0, within_3 = 0.0;
+  double mean_nees = 0.0;  // of the 6-dof motions: 6 when the covariance is honest
 };
 
 Calibration SpeedCalibration(const std::string& schedule, int num_frames) {
@@ -60,14 +61,18 @@ Calibration SpeedCalibration(const std::string& schedule, int num_frames) {
     EXPECT_LT((s.covariance_est - s.covariance_est.transpose()).norm(), 1e-9 * s.covariance_est.norm());
     EXPECT_GT(Eigen::SelfAdjointEigenSolver<Mat6>(s.covariance_est).eigenvalues().minCoeff(), 0.0);
     const double error = std::abs(s.speed_est_mps - s.speed_gt_mps);
+    const std::optional<double> nees = MotionNees(s);
+    EXPECT_TRUE(nees.has_value());
+    c.mean_nees += nees.value_or(0.0);
     ++c.pairs;
     within_1 += error <= s.speed_sigma_est_mps;
     within_3 += error <= 3.0 * s.speed_sigma_est_mps;
   }
   c.within_1 = static_cast<double>(within_1) / std::max(1, c.pairs);
   c.within_3 = static_cast<double>(within_3) / std::max(1, c.pairs);
+  c.mean_nees /= std::max(1, c.pairs);
   std::cout << schedule << ": speed errors within 1 sigma: " << c.within_1 << ", within 3 sigma: " << c.within_3
-            << " (" << c.pairs << " pairs)" << std::endl;
+            << ", motion NEES " << c.mean_nees << " (" << c.pairs << " pairs)" << std::endl;
   return c;
 }
 
@@ -76,6 +81,9 @@ void ExpectCalibrated(const Calibration& c) {
   EXPECT_GT(c.within_1, 0.5);
   EXPECT_LT(c.within_1, 0.85);
   EXPECT_GT(c.within_3, 0.9);
+  // The whole motion's covariance, not only the speed's: NEES within [0.5, 2] x its 6 dimensions.
+  EXPECT_GT(c.mean_nees, 3.0);
+  EXPECT_LT(c.mean_nees, 12.0);
 }
 
 TEST(MotionCovariance, TheSpeedSigmaOfTheSlidingWindowIsCalibratedOnTheSimulatedCity) {

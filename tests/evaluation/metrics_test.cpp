@@ -193,5 +193,25 @@ TEST(ObjectMetrics, CoverageOverMovingPairsAndOverMeasurableOnes) {
   EXPECT_FALSE(ComputeObjectMetrics({Pair(At(1, 0, 0), At(1, 0, 0), 10.0, 10.0)}).object_coverage_measurable);
 }
 
+
+// NEES by hand: an error of 2 sigma in x of the anchored translation and 1 sigma about z gives 4 + 1.
+TEST(ObjectMetrics, MotionNeesByHandAboutTheAnchor) {
+  ObjectPairSample s = Pair(At(1, 0, 0), SE3(), 10.0, 10.0);
+  const double sigma_t = 0.01, sigma_r = 0.002;
+  s.anchor_est = Vec3(0.0, 0.0, 5.0);
+  // Estimate: the true motion turned by sigma_r about z at the anchor, then moved 2 sigma along x.
+  const SE3 turn_at_anchor = SE3(Mat3::Identity(), s.anchor_est) * SE3(RotationExp(Vec3(0, 0, sigma_r)), Vec3::Zero()) *
+                             SE3(Mat3::Identity(), -s.anchor_est);
+  s.H_world_est = SE3(Mat3::Identity(), Vec3(2 * sigma_t, 0, 0)) * s.H_world_gt * turn_at_anchor;
+  s.covariance_est.diagonal() << Vec3::Constant(sigma_t * sigma_t), Vec3::Constant(sigma_r * sigma_r);
+  const std::optional<double> nees = MotionNees(s);
+  ASSERT_TRUE(nees);
+  EXPECT_NEAR(*nees, 5.0, 1e-6);
+  EXPECT_NEAR(*ComputeObjectMetrics({s}).motion_nees, 5.0, 1e-6);
+  s.covariance_est.setZero();  // unknown: no NEES
+  EXPECT_FALSE(MotionNees(s));
+  EXPECT_FALSE(ComputeObjectMetrics({s}).motion_nees);
+}
+
 }  // namespace
 }  // namespace dslam
