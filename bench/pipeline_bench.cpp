@@ -27,7 +27,7 @@
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double SecondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+using dslam::SecondsSince;
 
 using dslam::bench::RssMb;
 

@@ -2,12 +2,21 @@
 # their path from the repository's root ("data/image_frame.h"); tests/layers/layers_check.py holds each folder to
 # the layers its library names here, so that an include of a higher layer fails the tests, not only a review.
 #
-# dslam_layer(<folder> SOURCES <files> [LAYERS <lower layer folders>] [LIBS <public libraries>]
+# dslam_layer(<folder> SOURCES <files> [OWN_UNITS <files>] [LAYERS <lower layer folders>] [LIBS <public libraries>]
 #             [PRIVATE_LIBS <libraries its headers do not show>])
+#
+# With DSLAM_UNITY_BUILD (the default) a layer's SOURCES compile in batches of eight (a unity build: each batch
+# parses the Eigen, OpenCV and standard headers once, which on two cores halves a fresh build of dslam), and
+# OWN_UNITS each on its own: the few files whose templates take most of the compiler's time, so that they run
+# in parallel with the batches. Names in anonymous namespaces must then be unique within a layer.
 function(dslam_layer folder)
-  cmake_parse_arguments(ARG "" "" "SOURCES;LAYERS;LIBS;PRIVATE_LIBS" ${ARGN})
+  cmake_parse_arguments(ARG "" "" "SOURCES;OWN_UNITS;LAYERS;LIBS;PRIVATE_LIBS" ${ARGN})
   set(target dslam_${folder})
-  add_library(${target} STATIC ${ARG_SOURCES})
+  add_library(${target} STATIC ${ARG_SOURCES} ${ARG_OWN_UNITS})
+  if(DSLAM_UNITY_BUILD)
+    set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
+    set_source_files_properties(${ARG_OWN_UNITS} TARGET_DIRECTORY ${target} PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
+  endif()
   target_include_directories(${target} PUBLIC ${PROJECT_SOURCE_DIR})
   foreach(layer IN LISTS ARG_LAYERS)
     target_link_libraries(${target} PUBLIC dslam_${layer})

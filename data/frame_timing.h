@@ -9,6 +9,11 @@
 
 namespace dslam {
 
+// Seconds of the steady clock since `start` (a stage's or a run's duration).
+inline double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 inline int64_t SteadyClockNs() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
       .count();

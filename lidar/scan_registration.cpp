@@ -12,15 +12,15 @@
 
 namespace dslam {
 namespace {
-using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+using XyzCloud = pcl::PointCloud<pcl::PointXYZ>;
 
-Cloud::Ptr Thinned(const std::vector<Eigen::Vector3f>& points, double voxel_m) {
-  Cloud::Ptr cloud(new Cloud);
+XyzCloud::Ptr Thinned(const std::vector<Eigen::Vector3f>& points, double voxel_m) {
+  XyzCloud::Ptr cloud(new XyzCloud);
   cloud->reserve(points.size());
   for (const Eigen::Vector3f& p : points)
     if (p.allFinite()) cloud->push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
   if (voxel_m <= 0.0) return cloud;
-  Cloud::Ptr thinned(new Cloud);
+  XyzCloud::Ptr thinned(new XyzCloud);
   pcl::VoxelGrid<pcl::PointXYZ> grid;
   grid.setLeafSize(voxel_m, voxel_m, voxel_m);
   grid.setInputCloud(cloud);
@@ -39,11 +39,11 @@ void ScanRegistrationParams::validate() const {
 Registration RegisterPoints(const std::vector<Eigen::Vector3f>& source, const std::vector<Eigen::Vector3f>& target,
                             const Eigen::Isometry3d& guess_target_source, const ScanRegistrationParams& params) {
   params.validate();
-  const Cloud::Ptr src = Thinned(source, params.voxel_m), dst = Thinned(target, params.voxel_m);
+  const XyzCloud::Ptr src = Thinned(source, params.voxel_m), dst = Thinned(target, params.voxel_m);
   if (src->size() < 3 || dst->size() < 3)
     throw std::invalid_argument("registration needs at least 3 points in each set (have " +
                                 std::to_string(src->size()) + " and " + std::to_string(dst->size()) + ")");
-  Cloud aligned;
+  XyzCloud aligned;
   Registration out;
   const Eigen::Matrix4f guess = guess_target_source.matrix().cast<float>();
   auto run = [&](auto& icp) {

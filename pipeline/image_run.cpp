@@ -6,6 +6,7 @@
 #include <optional>
 #include <set>
 
+#include "data/frame_timing.h"
 #include "pipeline/reference_objects.h"
 #include "pipeline/staged_pipeline.h"
 
@@ -100,8 +101,6 @@ class FrontendRecorder {
   std::vector<double> fb_medians_;
   double frontend_ms_ = 0.0;
 };
-
-double SecondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 }  // namespace
 

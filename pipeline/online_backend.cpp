@@ -3,12 +3,9 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "data/frame_timing.h"
+
 namespace dslam {
-namespace {
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-}  // namespace
 
 EstimatorOptions OnlineBackend::SinkOptions(EstimateSink* sink, bool collect) {
   EstimatorOptions options;

@@ -1,0 +1,9 @@
+#pragma once
+// The dslam command line: parses the arguments and runs the subcommand they name (each in its own file).
+// Returns the process's exit status (the table in the README's "Exit status").
+
+namespace dslam {
+
+int RunCommandLine(int argc, char** argv);
+
+}  // namespace dslam
