@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -61,13 +62,21 @@ TEST(WholeLineFile, AProcessKilledWhileWritingLeavesWholeRows) {
     const pid_t child = fork();
     ASSERT_GE(child, 0);
     if (child == 0) {
+      // At most ~1 GB whatever happens to the parent (a child left writing would fill the disk).
       WholeLineFile f(path);
-      for (long i = 0;; ++i) {
+      for (long i = 0; i < 20'000'000; ++i) {
         f << i << ',' << i * 7 << ',' << "some text to make a row long enough" << '\n';
         if (i % 97 == 0) f.flush();
       }
+      _exit(0);
     }
-    usleep(20000 + 15000 * trial);
+    // Killed while it writes: once its first rows are out (on a loaded machine the child may take longer
+    // than any fixed delay to start), then at a different moment in each trial.
+    // (Its size, not its contents: reading a file that grows faster than it is read never ends.)
+    std::error_code ec;
+    for (int waited_ms = 0; waited_ms < 10000 && !(std::filesystem::file_size(path, ec) > 0 && !ec); waited_ms += 5)
+      usleep(5000);
+    usleep(5000 + 15000 * trial);
     kill(child, SIGKILL);
     waitpid(child, nullptr, 0);
     const std::string text = Contents(path);
@@ -78,6 +87,7 @@ TEST(WholeLineFile, AProcessKilledWhileWritingLeavesWholeRows) {
     for (std::string line; std::getline(rows, line); ++expected)
       ASSERT_EQ(line, std::to_string(expected) + ',' + std::to_string(expected * 7) + ",some text to make a row long enough")
           << trial;
+    std::filesystem::remove(path, ec);
   }
 }
 
