@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <numeric>
 #include <optional>
 #include <unordered_map>
@@ -15,8 +16,8 @@
 #include "backend/factors/analytic_jacobians.h"
 #include "backend/factors/huber_loss.h"
 #include "backend/factors/motion_smoothness_factor.h"
+#include "backend/factors/odometry_factor.h"
 #include "backend/factors/pose_prior_factor.h"
-#include "backend/factors/relative_pose_residual.h"
 #include "backend/spd_inverse.h"
 
 namespace dslam {
@@ -24,13 +25,6 @@ namespace {
 
 using MatX = Eigen::MatrixXd;
 using VecX = Eigen::VectorXd;
-
-void PlusPose(const double* block, const Vec6& delta, double* out) {
-  const Eigen::Map<const Eigen::Quaterniond> q(block);
-  Eigen::Map<Eigen::Quaterniond> q_out(out);
-  q_out = (q * RotationExp(delta.tail<3>())).normalized();
-  for (int i = 0; i < 3; ++i) out[4 + i] = block[4 + i] + delta[i];
-}
 
 
 struct Measurement {
@@ -57,11 +51,13 @@ struct Linear {
   const LinearPointFactor* factor;
 };
 
-// Odometry, first-camera prior and smoothness: few, 6-dim, differentiated numerically on the manifold.
+// Odometry, first-camera prior and smoothness: few and 6-dimensional. Their one definition is the
+// templated functor in backend/factors/ that Ceres' batch solver uses; its autodiff Jacobian in the
+// block's seven coordinates, times the manifold's Plus Jacobian, is the Jacobian in the tangent.
 struct PoseFactor {
   int a = -1, b = -1;  // pose-block indices; -1: the constant block below (or absent for a unary factor)
   const double* a_fixed = nullptr;
-  std::function<void(const double*, const double*, double*)> residual;
+  std::shared_ptr<const ceres::CostFunction> cost;  // residual 6; parameter blocks: a, or a and b
 };
 
 struct Group {
@@ -101,16 +97,13 @@ class WindowProblem {
     smooth_sigma << Vec3::Constant(params.noise.smoothness_sigma_t_m), Vec3::Constant(params.noise.smoothness_sigma_r_rad);
 
     if (first == 0 && !options.fix_cameras) {
-      PosePriorFactor prior(graph->T_world_camera0_prior, graph->prior_sigma);
-      pose_factors_.push_back({0, -1, nullptr, [prior](const double* a, const double*, double* r) { prior(a, r); }});
+      pose_factors_.push_back({0, -1, nullptr, Shared(PosePriorFactor::Create(graph->T_world_camera0_prior, graph->prior_sigma))});
     }
     for (int k = first; k <= last; ++k) {
       const FrameFactors& f = graph->frame(k);
       if (f.odometry && k > 0 && !options.fix_cameras) {
-        RelativePoseResidual odo(f.odometry->T_prev_curr, f.odometry->sigma);
-        PoseFactor pf{camera_index(k - 1), camera_index(k), graph->camera(k - 1),
-                      [odo](const double* a, const double* b, double* r) { odo(a, b, r); }};
-        pose_factors_.push_back(pf);
+        pose_factors_.push_back({camera_index(k - 1), camera_index(k), graph->camera(k - 1),
+                                 Shared(OdometryFactor::Create(f.odometry->T_prev_curr, f.odometry->sigma))});
       }
       for (const auto& m : f.measurements)
         measurements_.push_back({camera_index(k), point_index(m.point_var), graph->camera(k), m.z_camera,
@@ -131,9 +124,8 @@ class WindowProblem {
         const bool prev_live = s.prev_motion_var >= 0;
         const int a = prev_live ? motion_index(s.prev_motion_var) : -1;
         const Vec3 anchor_prev = prev_live ? motion_anchor_[a - num_cameras] : s.prev_fixed_anchor;
-        MotionSmoothnessFactor smooth(smooth_sigma, anchor_prev, motion_anchor_[b - num_cameras]);
         pose_factors_.push_back({a, b, prev_live ? nullptr : s.prev_fixed.data(),
-                                 [smooth](const double* x, const double* y, double* r) { smooth(x, y, r); }});
+                                 Shared(MotionSmoothnessFactor::Create(smooth_sigma, anchor_prev, motion_anchor_[b - num_cameras]))});
       }
     }
     buildGroups();
@@ -161,7 +153,7 @@ class WindowProblem {
       c += huber_.rho(r.squaredNorm());
     }
     for (const auto& l : linears_) c += linearResidual(l).squaredNorm();
-    for (const auto& f : pose_factors_) c += poseResidual(f, -1, Vec6::Zero()).squaredNorm();
+    for (const auto& f : pose_factors_) c += poseResidual(f, nullptr).squaredNorm();
     c *= 0.5;
     for (const PointVariable* p : points_)
       if (p->hasPrior()) c += p->priorCost(p->position(), huber_);
@@ -313,7 +305,7 @@ class WindowProblem {
     saved_points_.resize(points_.size());
     for (size_t i = 0; i < poses_.size(); ++i) {
       std::copy(poses_[i], poses_[i] + kPoseBlockSize, saved_poses_[i].begin());
-      PlusPose(saved_poses_[i].data(), dx.segment<6>(6 * i), poses_[i]);
+      PoseBlockPlus(saved_poses_[i].data(), dx.segment<6>(6 * i), poses_[i]);
     }
     for (size_t i = 0; i < points_.size(); ++i) {
       saved_points_[i] = points_[i]->p_world;
@@ -506,33 +498,25 @@ class WindowProblem {
     return true;
   }
 
-  // Residual of a pose factor with block `perturbed` (0: a, 1: b, -1: none) moved by delta.
-  Vec6 poseResidual(const PoseFactor& f, int perturbed, const Vec6& delta) const {
-    std::array<double, kPoseBlockSize> a{}, b{};
-    const double* pa = f.a >= 0 ? poses_[f.a] : f.a_fixed;
-    const double* pb = f.b >= 0 ? poses_[f.b] : nullptr;
-    if (perturbed == 0) PlusPose(pa, delta, a.data()), pa = a.data();
-    if (perturbed == 1) PlusPose(pb, delta, b.data()), pb = b.data();
+  // Residual of a pose factor at the current values, and (J non-null) its Jacobians in the tangents of
+  // its live blocks (J[0] of a, J[1] of b).
+  Vec6 poseResidual(const PoseFactor& f, Mat6* J) const {
+    const double* blocks[2] = {f.a >= 0 ? poses_[f.a] : f.a_fixed, f.b >= 0 ? poses_[f.b] : nullptr};
+    Eigen::Matrix<double, 6, 7, Eigen::RowMajor> ambient[2];
+    double* jacobians[2] = {nullptr, nullptr};
+    for (int i = 0; i < 2 && J; ++i)
+      if ((i == 0 ? f.a : f.b) >= 0) jacobians[i] = ambient[i].data();
     Vec6 r;
-    f.residual(pa, pb, r.data());
+    f.cost->Evaluate(blocks, r.data(), J ? jacobians : nullptr);
+    for (int i = 0; i < 2 && J; ++i)
+      if (jacobians[i]) J[i] = ambient[i] * PoseBlockPlusJacobian(blocks[i]);
     return r;
   }
 
   void addPoseFactor(const PoseFactor& f, MatX* S, VecX* b, VecX* diag) const {
-    const Vec6 r = poseResidual(f, -1, Vec6::Zero());
     const int blocks[2] = {f.a, f.b};
     Mat6 J[2];
-    const double h = 1e-7;
-    for (int which = 0; which < 2; ++which) {
-      if (blocks[which] < 0) continue;
-      for (int c = 0; c < 6; ++c) {
-        Vec6 d = Vec6::Zero();
-        d[c] = h;
-        const Vec6 plus = poseResidual(f, which, d);
-        d[c] = -h;
-        J[which].col(c) = (plus - poseResidual(f, which, d)) / (2.0 * h);
-      }
-    }
+    const Vec6 r = poseResidual(f, J);
     for (int i = 0; i < 2; ++i) {
       if (blocks[i] < 0) continue;
       b->segment<6>(6 * blocks[i]) += J[i].transpose() * r;
@@ -540,6 +524,10 @@ class WindowProblem {
         if (blocks[j] >= blocks[i]) S->block<6, 6>(6 * blocks[i], 6 * blocks[j]) += J[i].transpose() * J[j];
       diag->segment<6>(6 * blocks[i]) += J[i].colwise().squaredNorm().transpose();
     }
+  }
+
+  static std::shared_ptr<const ceres::CostFunction> Shared(ceres::CostFunction* cost) {
+    return std::shared_ptr<const ceres::CostFunction>(cost);
   }
 
   const BackendParams& params_;

@@ -1,9 +1,10 @@
 #pragma once
-// Residuals and analytic Jacobians of the two hot factors (point measurement, point motion), for the
-// fixed-lag smoother's own solver. Pose blocks are perturbed on the right in rotation and additively
-// in translation: (q, t) <- (q * Exp(phi), t + dt), tangent [dt; phi], matching SE3's [rho; phi] order.
-// Each is checked against Ceres autodiff of the functors in point_measurement_factor.h and
-// point_motion_factor.h (tests/backend/factors/analytic_jacobians_test.cpp).
+// Residuals and analytic Jacobians of the two hot factors (point measurement, point motion): their one
+// definition, used by the fixed-lag smoother's own solver, by the marginalisation and, through the cost
+// functions of point_measurement_factor.h and point_motion_factor.h, by Ceres' batch solver. Pose blocks
+// are perturbed on the right in rotation and additively in translation: (q, t) <- (q * Exp(phi), t + dt),
+// tangent [dt; phi], matching SE3's [rho; phi] order. Each is checked against Ceres autodiff of reference
+// functors (tests/support/reference_point_factors.h, tests/backend/factors/analytic_jacobians_test.cpp).
 
 #include <Eigen/Core>
 

@@ -45,6 +45,42 @@ inline Eigen::Matrix<double, 6, 1> PoseBlockMinus(const double* x, const double*
   return d;
 }
 
+// The block moved by a tangent step: (q * Exp(phi), t + dt), delta = [dt; phi] (the pose manifold's Plus).
+inline void PoseBlockPlus(const double* block, const Eigen::Matrix<double, 6, 1>& delta, double* out) {
+  const Eigen::Map<const Eigen::Quaterniond> q(block);
+  Eigen::Map<Eigen::Quaterniond> q_out(out);
+  q_out = (q * RotationExp(delta.tail<3>())).normalized();
+  for (int i = 0; i < 3; ++i) out[4 + i] = block[4 + i] + delta[i];
+}
+
+// d(block)/d(tangent) at the block: the 7x6 Jacobian of PoseBlockPlus at a zero step (what Ceres' pose
+// manifold multiplies a cost function's Jacobian by).
+inline Eigen::Matrix<double, 7, 6> PoseBlockPlusJacobian(const double* block) {
+  const double x = block[0], y = block[1], z = block[2], w = block[3];
+  Eigen::Matrix<double, 7, 6> J = Eigen::Matrix<double, 7, 6>::Zero();
+  // d(q * [phi/2, 1])/d(phi) in (x, y, z, w) storage.
+  J.block<4, 3>(0, 3) << 0.5 * w, -0.5 * z, 0.5 * y,  //
+      0.5 * z, 0.5 * w, -0.5 * x,                      //
+      -0.5 * y, 0.5 * x, 0.5 * w,                      //
+      -0.5 * x, -0.5 * y, -0.5 * z;
+  J.block<3, 3>(4, 0).setIdentity();
+  return J;
+}
+
+// An analytic Jacobian in the tangent [dt; phi] handed to Ceres as a Jacobian in the block's seven
+// coordinates, J_ambient, with J_ambient * PoseBlockPlusJacobian = J_tangent exactly: the quaternion
+// columns are 2 J_phi Q^T (Q = 2 d(q)/d(phi) has orthonormal columns for a unit quaternion), the
+// translation columns J_dt. Its component along q itself is zero, a direction the manifold never moves in.
+template <int Rows>
+Eigen::Matrix<double, Rows, 7, Rows == 1 ? Eigen::ColMajor : Eigen::RowMajor> AmbientJacobian(
+    const Eigen::Matrix<double, Rows, 6>& J_tangent, const double* block) {
+  const Eigen::Matrix<double, 4, 3> Q_half = PoseBlockPlusJacobian(block).block<4, 3>(0, 3);
+  Eigen::Matrix<double, Rows, 7, Rows == 1 ? Eigen::ColMajor : Eigen::RowMajor> J;
+  J.template leftCols<4>() = 4.0 * J_tangent.template rightCols<3>() * Q_half.transpose();
+  J.template rightCols<3>() = J_tangent.template leftCols<3>();
+  return J;
+}
+
 template <typename T>
 using Quat = Eigen::Quaternion<T>;
 template <typename T>

@@ -1,10 +1,11 @@
 #pragma once
-// Shared checks for factor tests: residual evaluation and autodiff Jacobians against central
-// differences in the parameters' ambient coordinates.
+// Shared checks for factor tests: residual evaluation and Jacobians against central differences (on the
+// pose manifold for pose blocks).
 
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -25,26 +26,41 @@ inline std::vector<double> Evaluate(const ceres::CostFunction& cost, const std::
   return residual;
 }
 
-// Compares the analytic (autodiff) Jacobian of every parameter block with central differences.
+// Compares the Jacobian of every parameter block with central differences: a point block (3) in its
+// coordinates, a pose block (7) on the manifold, as Ceres uses it: J * PoseBlockPlusJacobian against
+// differences along the tangent steps (q * Exp(phi), t + dt). (A cost function may hand over any
+// ambient Jacobian with that product, e.g. one lifted from an analytic tangent Jacobian.)
 inline void ExpectJacobiansMatchNumeric(const ceres::CostFunction& cost, const std::vector<double*>& params,
                                         double tolerance = 1e-6) {
   std::vector<std::vector<double>> analytic;
   Evaluate(cost, params, &analytic);
   const int num_residuals = cost.num_residuals();
   const double h = 1e-6;
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   for (size_t b = 0; b < params.size(); ++b) {
     const int size = cost.parameter_block_sizes()[b];
-    for (int c = 0; c < size; ++c) {
-      const double saved = params[b][c];
-      params[b][c] = saved + h;
-      const auto plus = Evaluate(cost, params);
-      params[b][c] = saved - h;
-      const auto minus = Evaluate(cost, params);
-      params[b][c] = saved;
+    const bool pose = size == kPoseBlockSize;
+    const std::vector<double> saved(params[b], params[b] + size);
+    Eigen::MatrixXd J = Eigen::Map<const RowMajor>(analytic[b].data(), num_residuals, size);
+    if (pose) J = J * PoseBlockPlusJacobian(saved.data());
+    for (int c = 0; c < J.cols(); ++c) {
+      auto shifted = [&](double step) {
+        if (pose) {
+          Eigen::Matrix<double, 6, 1> delta = Eigen::Matrix<double, 6, 1>::Zero();
+          delta[c] = step;
+          PoseBlockPlus(saved.data(), delta, params[b]);
+        } else {
+          params[b][c] = saved[c] + step;
+        }
+        const auto r = Evaluate(cost, params);
+        std::copy(saved.begin(), saved.end(), params[b]);
+        return r;
+      };
+      const auto plus = shifted(h), minus = shifted(-h);
       for (int r = 0; r < num_residuals; ++r) {
         const double numeric = (plus[r] - minus[r]) / (2.0 * h);
-        EXPECT_NEAR(analytic[b][r * size + c], numeric, tolerance * std::max(1.0, std::abs(numeric)))
-            << "block " << b << " parameter " << c << " residual " << r;
+        EXPECT_NEAR(J(r, c), numeric, tolerance * std::max(1.0, std::abs(numeric)))
+            << "block " << b << (pose ? " tangent " : " parameter ") << c << " residual " << r;
       }
     }
   }

@@ -1,5 +1,6 @@
-// The analytic residuals and Jacobians of the fixed-lag solver against Ceres autodiff of the
-// templated factors, mapped through the same tangent perturbation (q * Exp(phi), t + dt).
+// The analytic residuals and Jacobians both solvers use against Ceres autodiff of the reference
+// functors (tests/support/reference_point_factors.h), mapped through the same tangent perturbation
+// (q * Exp(phi), t + dt); and the Ceres cost functions built on them against the same reference.
 #include "backend/factors/analytic_jacobians.h"
 
 #include <gtest/gtest.h>
@@ -7,24 +8,12 @@
 #include "backend/factors/point_measurement_factor.h"
 #include "backend/factors/point_motion_factor.h"
 #include "support/factor_checks.h"
+#include "support/reference_point_factors.h"
 
 namespace dslam {
 namespace {
 
-// d(block)/d(tangent) at the block: the 7x6 Jacobian of (q * Exp(phi), t + dt) at zero.
-Eigen::Matrix<double, 7, 6> PlusJacobian(const double* block) {
-  const Eigen::Quaterniond q(block[3], block[0], block[1], block[2]);
-  Eigen::Matrix<double, 7, 6> J = Eigen::Matrix<double, 7, 6>::Zero();
-  // d(q * [phi/2, 1])/d(phi) in (x, y, z, w) storage.
-  Eigen::Matrix<double, 4, 3> dq;
-  dq << q.w(), -q.z(), q.y(),  //
-      q.z(), q.w(), -q.x(),    //
-      -q.y(), q.x(), q.w(),    //
-      -q.x(), -q.y(), -q.z();
-  J.block<4, 3>(0, 3) = 0.5 * dq;
-  J.block<3, 3>(4, 0) = Eigen::Matrix3d::Identity();
-  return J;
-}
+Eigen::Matrix<double, 7, 6> PlusJacobian(const double* block) { return PoseBlockPlusJacobian(block); }
 
 using RowJ = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>;
 
@@ -36,7 +25,7 @@ TEST(AnalyticJacobians, PointMeasurementMatchesAutodiff) {
   PoseBlock block;
   PoseToBlock(T, block.data());
   std::array<double, 3> point{l.x(), l.y(), l.z()};
-  std::unique_ptr<ceres::CostFunction> cost(PointMeasurementFactor::Create(z, sigma));
+  std::unique_ptr<ceres::CostFunction> cost(test::ReferencePointMeasurement::Create(z, sigma));
   std::vector<std::vector<double>> jac;
   const auto r_auto = test::Evaluate(*cost, {block.data(), point.data()}, &jac);
 
@@ -56,7 +45,7 @@ TEST(AnalyticJacobians, PointMotionMatchesAutodiff) {
   PoseToBlock(H, block.data());
   std::array<double, 3> a{prev.x(), prev.y(), prev.z()}, b{curr.x(), curr.y(), curr.z()};
   const double sigma = 0.005;
-  std::unique_ptr<ceres::CostFunction> cost(PointMotionFactor::Create(sigma, anchor));
+  std::unique_ptr<ceres::CostFunction> cost(test::ReferencePointMotion::Create(sigma, anchor));
   std::vector<std::vector<double>> jac;
   const auto r_auto = test::Evaluate(*cost, {a.data(), b.data(), block.data()}, &jac);
 
@@ -90,6 +79,43 @@ TEST(AnalyticJacobians, MarginalisedPredecessorUsesTheGivenWhitening) {
     const Vec3 r1 = PointMotionResidual(R1, H.translation() + d.head<3>(), anchor, prev, curr, S, nullptr, nullptr, nullptr);
     EXPECT_TRUE(((r1 - r) / h).isApprox(J_motion.col(c), 1e-4)) << c;
   }
+}
+
+// The cost functions Ceres' batch solver uses hand over the analytic Jacobians in the blocks' seven
+// coordinates: through the pose manifold's Plus Jacobian they are the reference's tangent Jacobians.
+TEST(AnalyticJacobians, CeresCostFunctionsLiftToTheReferenceTangentJacobians) {
+  const SE3 T(RotationExp(Vec3(-0.4, 0.7, 0.2)), Vec3(0.3, 1.0, -2.0));
+  PoseBlock camera;
+  PoseToBlock(T, camera.data());
+  std::array<double, 3> l{1.5, -0.5, 11.0}, prev{1.2, -0.4, 10.5};
+  const Vec3 z(0.2, 0.1, 9.0), sigma(0.03, 0.03, 0.2), anchor(1.0, 0.0, 10.0);
+
+  std::unique_ptr<ceres::CostFunction> ours(PointMeasurementFactor::Create(z, sigma));
+  std::unique_ptr<ceres::CostFunction> reference(test::ReferencePointMeasurement::Create(z, sigma));
+  std::vector<std::vector<double>> J_ours, J_ref;
+  const auto r_ours = test::Evaluate(*ours, {camera.data(), l.data()}, &J_ours);
+  const auto r_ref = test::Evaluate(*reference, {camera.data(), l.data()}, &J_ref);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(r_ours[i], r_ref[i], 1e-12);
+  const Mat36 lifted = Ambient(J_ours[0], 7) * PlusJacobian(camera.data());
+  EXPECT_TRUE(lifted.isApprox(Ambient(J_ref[0], 7) * PlusJacobian(camera.data()), 1e-10)) << lifted;
+  EXPECT_TRUE(Ambient(J_ours[1], 3).isApprox(Ambient(J_ref[1], 3), 1e-12));
+
+  ours.reset(PointMotionFactor::Create(0.01, anchor));
+  reference.reset(test::ReferencePointMotion::Create(0.01, anchor));
+  const auto m_ours = test::Evaluate(*ours, {prev.data(), l.data(), camera.data()}, &J_ours);
+  const auto m_ref = test::Evaluate(*reference, {prev.data(), l.data(), camera.data()}, &J_ref);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(m_ours[i], m_ref[i], 1e-9);
+  for (int b = 0; b < 2; ++b) EXPECT_TRUE(Ambient(J_ours[b], 3).isApprox(Ambient(J_ref[b], 3), 1e-12)) << b;
+  const Mat36 lifted_motion = Ambient(J_ours[2], 7) * PlusJacobian(camera.data());
+  EXPECT_TRUE(lifted_motion.isApprox(Ambient(J_ref[2], 7) * PlusJacobian(camera.data()), 1e-10)) << lifted_motion;
+}
+
+// The lift itself: any tangent Jacobian comes back exactly through the Plus Jacobian.
+TEST(AnalyticJacobians, AmbientJacobianTimesPlusJacobianIsTheTangentJacobian) {
+  PoseBlock block;
+  PoseToBlock(SE3(RotationExp(Vec3(1.1, -0.3, 0.6)), Vec3(4.0, 5.0, 6.0)), block.data());
+  const Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Random();
+  EXPECT_TRUE((AmbientJacobian<6>(J, block.data()) * PlusJacobian(block.data())).isApprox(J, 1e-12));
 }
 
 }  // namespace
