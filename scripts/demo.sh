@@ -5,7 +5,7 @@
 # Usage: scripts/demo.sh [extra dslam run options]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-"$root/scripts/setup.sh" --target dslam  # the demo builds only what it runs
+"$root/scripts/setup.sh" --dslam-only  # the demo installs and builds only what it runs
 scene="$root/results/city_scene"
 out="$root/results/city"
 "$root/build/dslam" render-scene --scenario city --frames 60 --out "$scene"
