@@ -1,8 +1,11 @@
 #pragma once
 // A text file that is on disk only in whole lines: what is written goes to the file up to its last
 // newline, in one write(2) per flush, and a line still being written stays in memory until it ends. A
-// process killed by any signal while it streams results (SIGKILL included) leaves each file ending on a
-// whole row, never half of one. Used as any std::ostream.
+// process ended by a signal while it streams results leaves each file ending on a whole row. SIGKILL
+// leaves whole rows too, with one exception no program can rule out: when it arrives during a write(2),
+// Linux stops the write at the next page boundary of the file, so a row straddling one can be cut there
+// (seen once in a CI run of tests/output/whole_line_file_test.cpp, at byte 6749 x 4096). Used as any
+// std::ostream.
 
 #include <ostream>
 #include <streambuf>
