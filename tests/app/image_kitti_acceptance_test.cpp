@@ -14,6 +14,7 @@
 #include "pipeline/image_run.h"
 #include "pipeline/run_sequence.h"
 #include "simulation/kitti_replay.h"
+#include "support/shared_data.h"
 #include "support/no_display.h"
 #include "support/run_defaults.h"
 #include "support/temp_paths.h"
@@ -21,17 +22,16 @@
 namespace dslam {
 namespace {
 namespace fs = std::filesystem;
-const std::string kKitti = std::string(DSLAM_SHARED_DATA_DIR) + "/kitti_tracking";
 
 class RenderedKittiSequence : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(RenderedKittiSequence, ImagePipelineMeetsTheTargetsOnVehicles) {
-  if (!fs::exists(kKitti + "/label_02/0000.txt")) GTEST_SKIP() << "shared data absent: " << kKitti;
+  if (!fs::exists(test::KittiTrackingDir() + "/label_02/0000.txt")) GTEST_SKIP() << "shared data absent: " << test::KittiTrackingDir();
   const std::string seq = GetParam();
   const std::string dir = test::TempPath("rendered_" + seq);
   test::ScopedNoDisplay no_display;  // render through our own Xvfb, as CI does
   RenderSceneOptions render;
-  render.kitti_dir = kKitti, render.sequence = seq, render.out_dir = dir, render.quiet = true;
+  render.kitti_dir = test::KittiTrackingDir(), render.sequence = seq, render.out_dir = dir, render.quiet = true;
   std::ostringstream out, err;
   ASSERT_EQ(RunRenderSceneCommand(render, out, err), 0) << err.str();
 
@@ -46,7 +46,7 @@ TEST_P(RenderedKittiSequence, ImagePipelineMeetsTheTargetsOnVehicles) {
 
   RunConfig replay_config;
   replay_config.backend.default_mode = ParseMotionMode(kKittiReplayDefaultMode);
-  const Sequence replay = MakeKittiReplay(LoadKittiGroundTruth(kKitti, seq), KittiReplayOptions{});
+  const Sequence replay = MakeKittiReplay(LoadKittiGroundTruth(test::KittiTrackingDir(), seq), KittiReplayOptions{});
   const MethodMetrics replay_metrics = RunSequence(replay, replay_config, run).at(Method::kOurs).metrics;
 
   ASSERT_TRUE(image_metrics.objects && image_metrics.objects->omse_pct && image_metrics.camera.rte_pct);

@@ -10,22 +10,22 @@
 #include "data/kitti_dataset.h"
 #include "pipeline/run_sequence.h"
 #include "simulation/kitti_replay.h"
+#include "support/shared_data.h"
 #include "support/temp_paths.h"
 
 namespace dslam {
 namespace {
 
 namespace fs = std::filesystem;
-const std::string kKitti = std::string(DSLAM_SHARED_DATA_DIR) + "/kitti_tracking";
 
 #define REQUIRE_SHARED_DATA() \
-  if (!fs::exists(kKitti + "/label_02/0000.txt")) GTEST_SKIP() << "shared data absent: " << kKitti
+  if (!fs::exists(test::KittiTrackingDir() + "/label_02/0000.txt")) GTEST_SKIP() << "shared data absent: " << test::KittiTrackingDir()
 
 MethodOutcomes Replay(const std::string& seq, double sigma, const std::vector<Method>& methods, uint64_t seed = 1) {
   KittiReplayOptions replay;
   replay.noise.point_sigma_m = sigma;
   replay.seed = seed;
-  const Sequence sequence = MakeKittiReplay(LoadKittiGroundTruth(kKitti, seq), replay);
+  const Sequence sequence = MakeKittiReplay(LoadKittiGroundTruth(test::KittiTrackingDir(), seq), replay);
   RunConfig config;
   config.backend.default_mode = ParseMotionMode(kKittiReplayDefaultMode);
   config.backend.noise.point_sigma_m = sigma;
@@ -85,7 +85,7 @@ TEST(KittiReplay, ParkedCarsWhoseLabelsJitterDoNotPullTheCamera) {
 TEST(KittiReplay, CommandWritesTheObjectTable) {
   REQUIRE_SHARED_DATA();
   KittiReplayCommandOptions o;
-  o.data_dir = kKitti;
+  o.data_dir = test::KittiTrackingDir();
   o.sequence = "0003";
   o.quiet = true;
   o.schedule = "window:10";

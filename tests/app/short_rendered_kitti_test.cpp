@@ -19,6 +19,7 @@
 #include "pipeline/config_yaml.h"
 #include "pipeline/image_run.h"
 #include "pipeline/run_sequence.h"
+#include "support/shared_data.h"
 #include "support/no_display.h"
 #include "support/run_defaults.h"
 #include "support/temp_paths.h"
@@ -26,16 +27,15 @@
 namespace dslam {
 namespace {
 namespace fs = std::filesystem;
-const std::string kKitti = std::string(DSLAM_SHARED_DATA_DIR) + "/kitti_tracking";
 
 class ShortRenderedKitti : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    if (!fs::exists(kKitti + "/label_02/0003.txt")) return;
+    if (!fs::exists(test::KittiTrackingDir() + "/label_02/0003.txt")) return;
     dir_ = new std::string(test::TempPath("rendered_stereo_0003"));
     test::ScopedNoDisplay no_display;
     RenderSceneOptions render;
-    render.kitti_dir = kKitti, render.sequence = "0003", render.out_dir = *dir_, render.quiet = true;
+    render.kitti_dir = test::KittiTrackingDir(), render.sequence = "0003", render.out_dir = *dir_, render.quiet = true;
     render.frames = 30, render.stereo = true;
     std::ostringstream out, err;
     if (RunRenderSceneCommand(render, out, err) != 0) {
@@ -51,7 +51,7 @@ class ShortRenderedKitti : public ::testing::Test {
     dir_ = nullptr;
   }
   void SetUp() override {
-    if (!fs::exists(kKitti + "/label_02/0003.txt")) GTEST_SKIP() << "shared data absent: " << kKitti;
+    if (!fs::exists(test::KittiTrackingDir() + "/label_02/0003.txt")) GTEST_SKIP() << "shared data absent: " << test::KittiTrackingDir();
     ASSERT_NE(dir_, nullptr) << "the scene could not be rendered";
   }
   static MethodMetrics RunOurs(const RunConfig& config, Sequence* images_out = nullptr) {

@@ -16,6 +16,7 @@
 #include "data/dense_maps.h"
 #include "data/kitti_dataset.h"
 #include "data/kitti_tracking.h"
+#include "support/shared_data.h"
 #include "support/no_display.h"
 #include "support/temp_paths.h"
 
@@ -23,15 +24,14 @@ namespace dslam {
 namespace {
 
 namespace fs = std::filesystem;
-const std::string kKitti = std::string(DSLAM_SHARED_DATA_DIR) + "/kitti_tracking";
 
 class RenderScene : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    if (!fs::exists(kKitti + "/label_02/0000.txt")) return;
+    if (!fs::exists(test::KittiTrackingDir() + "/label_02/0000.txt")) return;
     dir_ = new std::string(test::TempDir("render_scene"));
     RenderSceneOptions o;
-    o.kitti_dir = kKitti;
+    o.kitti_dir = test::KittiTrackingDir();
     o.sequence = "0000";
     o.frames = 6;
     o.stereo = true;
@@ -48,7 +48,7 @@ class RenderScene : public ::testing::Test {
     delete log_;
   }
   void SetUp() override {
-    if (!dir_) GTEST_SKIP() << "shared data absent: " << kKitti;
+    if (!dir_) GTEST_SKIP() << "shared data absent: " << test::KittiTrackingDir();
     ASSERT_EQ(code_, 0) << *log_;
   }
   static std::string* dir_;
@@ -62,7 +62,7 @@ int RenderScene::code_ = -1;
 // --stereo on a KITTI sequence: the right camera sits at the sequence's own baseline between its colour
 // cameras ((P2 - P3) / fx in its calibration: 0.532 m on 0000, not the nominal 0.54 m).
 TEST_F(RenderScene, TheStereoPairHasTheSequencesOwnBaseline) {
-  const KittiCalibration kitti = ReadKittiCalibration(kKitti + "/calib/0000.txt");
+  const KittiCalibration kitti = ReadKittiCalibration(test::KittiTrackingDir() + "/calib/0000.txt");
   const double expected = (kitti.P[2](0, 3) - kitti.P[3](0, 3)) / kitti.fx();
   const KittiCalibration written = ReadKittiCalibration(*dir_ + "/calib.txt");
   EXPECT_NEAR((written.P[2](0, 3) - written.P[3](0, 3)) / written.fx(), expected, 1e-6);
@@ -77,7 +77,7 @@ TEST_F(RenderScene, TheStereoPairHasTheSequencesOwnBaseline) {
 TEST_F(RenderScene, OutputReadsBackInTheVdoLayout) {
   const auto poses = ReadPoseGt(*dir_ + "/pose_gt.txt");
   ASSERT_EQ(poses.size(), 6u);
-  const auto gt = LoadKittiGroundTruth(kKitti, "0000");
+  const auto gt = LoadKittiGroundTruth(test::KittiTrackingDir(), "0000");
   for (size_t k = 0; k < poses.size(); ++k) EXPECT_TRUE(poses[k].isApprox(gt.T_world_camera[k], 1e-6)) << k;
   EXPECT_EQ(ReadTimes(*dir_ + "/times.txt").size(), 6u);
   const InstanceMask mask = ReadSemanticTxt(*dir_ + "/semantic/000003.txt");
@@ -95,7 +95,7 @@ TEST_F(RenderScene, OutputReadsBackInTheVdoLayout) {
 
 TEST_F(RenderScene, WrittenGroundTruthReprojectsOntoTheMask) {
   const auto rows = ReadObjectPoses(*dir_ + "/object_pose.txt");
-  const auto gt = LoadKittiGroundTruth(kKitti, "0000");
+  const auto gt = LoadKittiGroundTruth(test::KittiTrackingDir(), "0000");
   const auto calib = ReadKittiCalibration(*dir_ + "/calib.txt");
   ASSERT_GT(rows.size(), 10u);
   int hits = 0;
