@@ -268,6 +268,12 @@ int RunCommandLine(int argc, char** argv) {
                         "jazzy (16; also iron, kilted, lyrical, rolling)")
       ->capture_default_str();
 
+  serve_cmd->add_option("--ownership-strength", serve.ownership_strength,
+                        "Hot standby: this instance's ownership strength on its outputs; with a profile of EXCLUSIVE "
+                        "ownership subscribers follow the live serve of highest strength (-1: the profile's)")
+      ->check(CLI::Range(-1, 2147483647))
+      ->capture_default_str();
+
   dslam::PublishCommandOptions publish;
   CLI::App* publish_cmd = app.add_subcommand(
       "publish", "Replay a recorded or rendered sequence onto a vehicle's input topics, as its sensors would");
@@ -297,6 +303,46 @@ int RunCommandLine(int argc, char** argv) {
       ->capture_default_str();
   publish_cmd->add_option("--wait", publish.publish.wait_for_reader_s, "Seconds to wait for a reader first (0 to 3600)")
       ->check(CLI::Range(0.0, 3600.0))
+      ->capture_default_str();
+  publish_cmd->add_option("--compress", publish.compress,
+                          "Images as sensor_msgs/CompressedImage on <topic>/compressed: png (lossless) or jpeg (colour; "
+                          "depth and mask stay png), for links that cannot carry raw images; none: raw Image")
+      ->check(CLI::IsMember({"none", "png", "jpeg"}))
+      ->capture_default_str();
+  publish_cmd->add_flag("--stamp-now", publish.publish.stamp_now,
+                        "Stamp each frame with this host's clock as it is published (as a camera driver does), not the "
+                        "dataset's times: latency from capture can then be measured downstream");
+
+  dslam::ListenCommandOptions listen;
+  CLI::App* listen_cmd = app.add_subcommand(
+      "listen", "Subscribe to a vehicle's estimates as another host would: each camera estimate with its writer and "
+                "latency to a CSV, repeated and missing frames counted");
+  listen_cmd->add_option("--vehicle", listen.vehicle, "Vehicle topic namespace (default: none)");
+  listen_cmd->add_option("--domain", listen.domain_id, "DDS domain id (0-232)")
+      ->check(CLI::Range(0, 232))
+      ->capture_default_str();
+  listen_cmd->add_option("--profiles", listen.profiles_file, "Fast DDS XML profiles")
+      ->check(CLI::ExistingFile)
+      ->capture_default_str();
+  listen_cmd->add_option("--out", listen.out_dir, "Output directory (estimates.csv, listen.json)")
+      ->check(kOutputDir)
+      ->capture_default_str();
+  listen_cmd->add_option("--rate", listen.frame_rate_hz,
+                         "Sensor frame rate (Hz): frames missing between stamps are counted at it (0.001 to 1000)")
+      ->check(CLI::Range(0.001, 1000.0))
+      ->capture_default_str();
+  listen_cmd->add_option("--frames", listen.frames, "Stop after this many frames (0: no limit)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  listen_cmd->add_option("--max-run", listen.max_run_s, "Stop after this many seconds (0: never; at most 1e9)")
+      ->check(CLI::Range(0.0, 1e9))
+      ->capture_default_str();
+  listen_cmd->add_option("--idle-stop", listen.idle_stop_s,
+                         "Stop when no estimate arrived for this many seconds since the last one (0: never)")
+      ->check(CLI::Range(0.0, 1e9))
+      ->capture_default_str();
+  listen_cmd->add_option("--status-every", listen.status_every_s, "Console status period, s (0: never)")
+      ->check(CLI::Range(0.0, 86400.0))
       ->capture_default_str();
 
   // An unknown command is named (CLI11 would only say that one is required).
@@ -329,6 +375,7 @@ int RunCommandLine(int argc, char** argv) {
   const std::pair<CLI::App*, std::string> writers[] = {
       {run_cmd, run.out_dir},       {study_cmd, study.out_dir}, {render_cmd, render.out_dir},
       {sim_cmd, sim.out_dir},       {replay_cmd, replay.out_dir}, {lidar_check_cmd, lidar_check.out_dir},
+      {listen_cmd, listen.out_dir},
       {figures_cmd, std::filesystem::is_directory(figures_dir) ? figures_dir : std::string()}};
   for (const auto& [cmd, dir] : writers) {
     if (!cmd->parsed() || dir.empty()) continue;
@@ -344,6 +391,7 @@ int RunCommandLine(int argc, char** argv) {
   }
   if (serve_cmd->parsed()) return dslam::RunServeCommand(serve, std::cout, std::cerr);
   if (publish_cmd->parsed()) return dslam::RunPublishCommand(publish, std::cout, std::cerr);
+  if (listen_cmd->parsed()) return dslam::RunListenCommand(listen, std::cout, std::cerr);
   if (run_cmd->parsed()) return dslam::RunRunCommand(run, std::cout, std::cerr);
   if (study_cmd->parsed()) return dslam::RunStudyCommand(study, std::cout, std::cerr);
   if (render_cmd->parsed()) return dslam::RunRenderSceneCommand(render, std::cout, std::cerr);

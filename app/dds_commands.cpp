@@ -4,13 +4,19 @@
 #include <cmath>
 #include <chrono>
 #include <map>
+#include <mutex>
+#include <iomanip>
 #include <csignal>
 #include <filesystem>
 #include <thread>
 
 #include "data/kitti_tracking.h"
+#include "output/whole_file.h"
+#include "output/whole_line_file.h"
 #include "pipeline/config_yaml.h"
 #include "plugin/dds_error.h"
+#include "plugin/estimate_listener.h"
+#include "plugin/estimate_stream_stats.h"
 #include "plugin/ros_distro.h"
 #include "plugin/topics.h"
 #include "plugin/udp_buffer_check.h"
@@ -93,6 +99,7 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
     serve.node_name = options.node_name;
     RosGidWidth(options.ros_distro);  // throws for an unknown one
     serve.ros_distro = options.ros_distro;
+    if (options.ownership_strength >= 0) serve.ownership_strength = static_cast<uint32_t>(options.ownership_strength);
     serve.assembler.validate();
   } catch (const std::exception& e) {
     err << "dslam serve: error: " << e.what() << std::endl;
@@ -168,6 +175,9 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
     shut_down = true;
     second_signal.join();
     return 0;
+  } catch (const std::invalid_argument& e) {  // options that contradict the profiles
+    err << "dslam serve: error: " << e.what() << std::endl;
+    return 2;
   } catch (const std::exception& e) {
     err << "dslam serve: error: " << e.what() << std::endl;
     return 4;
@@ -183,10 +193,14 @@ int RunPublishCommand(const PublishCommandOptions& options, std::ostream& out, s
                                                               : ImageDatasetOptions{};
     dataset_options.sequence = options.sequence;
     dataset_options.read_flow = false;  // flow is not sent
+    PublishOptions publish = options.publish;
+    const auto compression = ParseImageCompression(options.compress);
+    if (!compression) throw std::invalid_argument("--compress must be none, png or jpeg, got '" + options.compress + "'");
+    publish.compression = *compression;
     const ImageDataset dataset(options.dataset_dir, dataset_options);
     out << "dslam publish: " << dataset.size() << " frames of " << options.dataset_dir << " at "
         << options.publish.rate_hz << " Hz on domain " << options.publish.domain_id << std::endl;
-    const int n = PublishDataset(dataset, options.publish, out, &g_stop);
+    const int n = PublishDataset(dataset, publish, out, &g_stop);
     out << "dslam publish: " << n << " frames published" << std::endl;
     return 0;
   } catch (const DdsStartError& e) {
@@ -195,6 +209,88 @@ int RunPublishCommand(const PublishCommandOptions& options, std::ostream& out, s
   } catch (const std::exception& e) {
     err << "dslam publish: error: " << e.what() << std::endl;
     return 2;
+  }
+}
+
+int RunListenCommand(const ListenCommandOptions& options, std::ostream& out, std::ostream& err) {
+  try {
+    if (const std::string bad = FindInvalidVehicleName(options.vehicle); !bad.empty()) throw std::invalid_argument(bad);
+    if (!std::isfinite(options.frame_rate_hz) || options.frame_rate_hz < 1e-3 || options.frame_rate_hz > 1000.0)
+      throw std::invalid_argument("--rate must be between 0.001 and 1000 Hz, got " + std::to_string(options.frame_rate_hz));
+    for (const auto& [name, value] : {std::pair<const char*, double>{"--max-run", options.max_run_s},
+                                      {"--idle-stop", options.idle_stop_s}, {"--status-every", options.status_every_s}})
+      if (!std::isfinite(value) || value < 0.0 || value > 1e9)
+        throw std::invalid_argument(std::string(name) + " must be between 0 and 1e9 s, got " + std::to_string(value));
+    if (options.frames < 0) throw std::invalid_argument("--frames must be 0 (no limit) or more");
+  } catch (const std::exception& e) {
+    err << "dslam listen: error: " << e.what() << std::endl;
+    return 2;
+  }
+  InstallStopHandlers();
+  const std::string csv_path = (std::filesystem::path(options.out_dir) / "estimates.csv").string();
+  try {
+    std::filesystem::create_directories(options.out_dir);
+    WholeLineFile csv(csv_path);
+    if (!csv) throw std::runtime_error("cannot write " + csv_path);
+    csv << "stamp_ns,received_unix_ns,latency_ms,writer,x,y,z,qx,qy,qz,qw\n";
+    std::mutex mutex;  // the receive thread writes, the main thread reads the totals
+    EstimateStreamStats stats(options.frame_rate_hz);
+    csv << std::setprecision(9);
+    CameraEstimateListener listener(options.domain_id, options.profiles_file, options.vehicle,
+                                    [&](const ReceivedEstimate& e) {
+                                      std::lock_guard<std::mutex> lock(mutex);
+                                      if (!csv.is_open()) return;  // stopping: the totals are final
+                                      const double latency_ms = stats.add(e);
+                                      const Vec3 t = e.T_world_camera.translation();
+                                      const Eigen::Quaterniond q = e.T_world_camera.rotation();
+                                      csv << e.stamp_ns << ',' << e.received_unix_ns << ',';
+                                      if (latency_ms >= 0.0) csv << latency_ms;
+                                      csv << ',' << e.writer << ',' << t.x() << ',' << t.y() << ',' << t.z() << ','
+                                          << q.x() << ',' << q.y() << ',' << q.z() << ',' << q.w() << '\n';
+                                      csv.flush();
+                                    });
+    out << "dslam listen: vehicle '" << options.vehicle << "' on domain " << options.domain_id << ", estimates to "
+        << csv_path << " (SIGINT or SIGTERM to stop)" << std::endl;
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
+    auto last_status = start, last_arrival = start;
+    uint64_t seen = 0;
+    int matched = 0, alive = -1;
+    const auto seconds_since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
+    while (!g_stop) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      uint64_t frames = 0;
+      std::string line;
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        frames = stats.distinctStamps();
+        if (stats.received() != seen) seen = stats.received(), last_arrival = Clock::now();
+        if (options.status_every_s > 0 && seconds_since(last_status) > options.status_every_s) line = stats.line();
+      }
+      if (!line.empty()) out << "  " << line << std::endl, last_status = Clock::now();
+      if (const int now_matched = listener.matchedWriters(); now_matched != matched) {
+        matched = now_matched;  // said as it changes: a script can wait for it before starting the sensors
+        out << "dslam listen: " << matched << (matched == 1 ? " writer" : " writers") << " of estimates matched" << std::endl;
+      }
+      if (const int now_alive = listener.aliveWriters(); now_alive != alive && now_alive >= 0) {
+        alive = now_alive;
+        out << "dslam listen: " << alive << (alive == 1 ? " writer" : " writers") << " of estimates alive" << std::endl;
+      }
+      if (options.frames > 0 && frames >= static_cast<uint64_t>(options.frames)) break;
+      if (options.max_run_s > 0 && seconds_since(start) > options.max_run_s) break;
+      if (options.idle_stop_s > 0 && seen > 0 && seconds_since(last_arrival) > options.idle_stop_s) break;
+    }
+    std::lock_guard<std::mutex> lock(mutex);  // held until the end: no estimate is half-written
+    csv.close();
+    if (!csv) throw std::runtime_error("error while writing " + csv_path);
+    WholeFile summary((std::filesystem::path(options.out_dir) / "listen.json").string());
+    summary << stats.json().dump(2) << "\n";
+    summary.commit();
+    out << "dslam listen: " << stats.line() << std::endl;
+    return 0;
+  } catch (const std::exception& e) {
+    err << "dslam listen: error: " << e.what() << std::endl;
+    return 4;
   }
 }
 

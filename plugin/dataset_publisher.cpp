@@ -20,7 +20,7 @@ int PublishDataset(const ImageDataset& dataset, const PublishOptions& options, s
   if (options.start_frame < 0 || options.start_frame >= dataset.size())
     throw std::invalid_argument("--start-frame " + std::to_string(options.start_frame) + " is outside the " +
                                 std::to_string(dataset.size()) + " frames");
-  SensorPublisher sensors(options.domain_id, options.profiles_file, options.vehicle, dataset.hasLidar());
+  SensorPublisher sensors(options.domain_id, options.profiles_file, options.vehicle, dataset.hasLidar(), options.compression);
   if (!sensors.waitForReaders(options.wait_for_reader_s, stop) && !(stop && *stop))
     log << "warning: no reader matched every input topic of vehicle '" << options.vehicle << "' within "
         << options.wait_for_reader_s << " s (--wait); publishing anyway, samples nobody reads are lost" << std::endl;
@@ -34,7 +34,9 @@ int PublishDataset(const ImageDataset& dataset, const PublishOptions& options, s
   auto next = std::chrono::steady_clock::now();
   int published = 0;
   for (int k = options.start_frame; k < end && !(stop && *stop); ++k) {
-    const ImageFrame frame = dataset.read(k);
+    ImageFrame frame = dataset.read(k);
+    if (options.stamp_now)
+      frame.t_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
     // The increment's sigmas, per second of the time it spans: a velocity's uncertainty, which the
     // receiver multiplies by the time between the frames it pairs.
     Vec6 twist_sigma_per_s = Vec6::Zero();

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "data/image_dataset.h"
+#include "plugin/compressed_image.h"
 
 namespace dslam {
 
@@ -20,6 +21,12 @@ struct PublishOptions {
   int start_frame = 0;       // resume a replay (stamps continue where they were)
   int frames = 0;            // 0: to the end
   double wait_for_reader_s = 10.0;  // wait this long for readers of every input topic before publishing
+  // Stamp each frame with this host's clock as it is published, as a camera driver stamps its captures,
+  // instead of the dataset's own times: subscribers can then measure the latency from capture.
+  bool stamp_now = false;
+  // Images as sensor_msgs/CompressedImage on <topic>/compressed (colour PNG or JPEG, depth and mask PNG):
+  // what fits a vehicle's 100 Mbit/s link (docs/serve.md, "The vehicle network").
+  ImageCompression compression = ImageCompression::kNone;
 };
 
 // Returns the number of frames published; stops early when *stop becomes true. Throws

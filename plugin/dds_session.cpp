@@ -102,6 +102,13 @@ dds::DataWriter* DdsSession::writer(const std::string& topic_name, dds::TopicDat
   return w;
 }
 
+dds::DataWriterQos DdsSession::writerQos(const std::string& profile) const {
+  dds::DataWriterQos qos;
+  if (publisher_->get_datawriter_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK)
+    throw DdsStartError("the profiles have no data_writer profile '" + profile + "'");
+  return qos;
+}
+
 dds::DataWriter* DdsSession::writer(const std::string& topic_name, dds::TopicDataType* type,
                                     const dds::DataWriterQos& qos) {
   dds::DataWriter* w = publisher_->create_datawriter(topic(topic_name, type), qos);

@@ -35,6 +35,8 @@ class DdsSession {
                                              eprosima::fastdds::dds::DataReaderListener* listener);
   eprosima::fastdds::dds::DataWriter* writer(const std::string& topic, eprosima::fastdds::dds::TopicDataType* type,
                                              const std::string& profile);
+  // The profile's QoS as the XML file gives it (throws DdsStartError when the file has no such profile).
+  eprosima::fastdds::dds::DataWriterQos writerQos(const std::string& profile) const;
   // A writer whose QoS a protocol fixes (ROS 2's graph topic), not a profile.
   eprosima::fastdds::dds::DataWriter* writer(const std::string& topic, eprosima::fastdds::dds::TopicDataType* type,
                                              const eprosima::fastdds::dds::DataWriterQos& qos);

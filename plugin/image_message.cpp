@@ -22,15 +22,6 @@ builtin_interfaces::msg::Time NsToStamp(int64_t t_ns) {
 
 namespace {
 
-const char* RoleName(ImageRole role) {
-  switch (role) {
-    case ImageRole::kColour: return "colour image";
-    case ImageRole::kDepth: return "depth image";
-    case ImageRole::kMask: return "instance mask";
-  }
-  return "image";
-}
-
 // OpenCV type of an encoding allowed for the role; -1 when it is not.
 int TypeOf(const std::string& encoding, ImageRole role) {
   switch (role) {
@@ -52,9 +43,18 @@ int TypeOf(const std::string& encoding, ImageRole role) {
 
 }  // namespace
 
+const char* ImageRoleName(ImageRole role) {
+  switch (role) {
+    case ImageRole::kColour: return "colour image";
+    case ImageRole::kDepth: return "depth image";
+    case ImageRole::kMask: return "instance mask";
+  }
+  return "image";
+}
+
 DecodedImage DecodeImage(const sensor_msgs::msg::Image& msg, ImageRole role) {
   DecodedImage out;
-  const std::string what = std::string(RoleName(role)) + " at " + std::to_string(StampToNs(msg.header().stamp())) + " ns";
+  const std::string what = std::string(ImageRoleName(role)) + " at " + std::to_string(StampToNs(msg.header().stamp())) + " ns";
   const int type = TypeOf(msg.encoding(), role);
   if (type < 0) {
     out.error = what + ": encoding '" + msg.encoding() + "' is not supported for this input";

@@ -21,6 +21,8 @@ builtin_interfaces::msg::Time NsToStamp(int64_t t_ns);
 
 // What an image topic carries.
 enum class ImageRole { kColour, kDepth, kMask };
+// "colour image", "depth image", "instance mask": how errors name a sample.
+const char* ImageRoleName(ImageRole role);
 
 struct DecodedImage {
   cv::Mat image;      // colour: CV_8UC3 BGR or CV_8UC1; depth: CV_32FC1 metres; mask: CV_16UC1 or CV_32SC1 ids

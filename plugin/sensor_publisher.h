@@ -1,7 +1,8 @@
 #pragma once
 // A vehicle's sensors on DDS: writers of colour (bgr8), depth (32FC1), instance mask (16UC1), odometry
 // (the camera pose in the odometry frame) and, for a vehicle with a LiDAR, its scans (PointCloud2 in the
-// LiDAR's frame) under the vehicle's topic namespace. Used by
+// LiDAR's frame) under the vehicle's topic namespace. With compression, the images go as
+// sensor_msgs/CompressedImage on <image topic>/compressed instead (plugin/compressed_image.h). Used by
 // `dslam publish` and the latency benchmark; no Fast DDS type appears in this header.
 
 #include <atomic>
@@ -10,13 +11,15 @@
 #include <string>
 
 #include "data/image_frame.h"
+#include "plugin/compressed_image.h"
 
 namespace dslam {
 
 class SensorPublisher {
  public:
   // Throws std::runtime_error when the participant or a writer cannot be created.
-  SensorPublisher(int domain_id, const std::string& profiles_file, const std::string& vehicle, bool with_lidar = false);
+  SensorPublisher(int domain_id, const std::string& profiles_file, const std::string& vehicle, bool with_lidar = false,
+                  ImageCompression compression = ImageCompression::kNone);
   ~SensorPublisher();
   SensorPublisher(const SensorPublisher&) = delete;
   SensorPublisher& operator=(const SensorPublisher&) = delete;

@@ -18,6 +18,7 @@
 #include "output/trajectory_io.h"
 #include "output/whole_file.h"
 #include "plugin/dds_session.h"
+#include "plugin/compressed_image.h"
 #include "plugin/image_message.h"
 #include "plugin/object_markers.h"
 #include "plugin/point_cloud_message.h"
@@ -28,6 +29,7 @@
 #include "pipeline/mask_source.h"
 #include "pipeline/stage_latency.h"
 #include "pipeline/staged_pipeline.h"
+#include "sensor_msgs_CompressedImagePubSubTypes.h"
 #include "sensor_msgs_ImagePubSubTypes.h"
 #include "sensor_msgs_PointCloud2PubSubTypes.h"
 #include "visualization_msgs_MarkerArrayPubSubTypes.h"
@@ -88,15 +90,27 @@ class Vehicle {
         colour_listener_(this, ImageSample(ImageRole::kColour), &Sample::image),
         depth_listener_(this, ImageSample(ImageRole::kDepth), &Sample::image),
         mask_listener_(this, ImageSample(ImageRole::kMask), &Sample::image),
+        colour_compressed_listener_(this, ImageSample(ImageRole::kColour, true), &Sample::compressed),
+        depth_compressed_listener_(this, ImageSample(ImageRole::kDepth, true), &Sample::compressed),
+        mask_compressed_listener_(this, ImageSample(ImageRole::kMask, true), &Sample::compressed),
         lidar_listener_(this, LidarSample(), &Sample::cloud),
         odometry_listener_(this, Sample{}, &Sample::odometry) {
     const VehicleTopics topics = TopicsFor(name);
-    odometry_writer_ = session.writer(topics.camera_odometry, new nav_msgs::msg::OdometryPubSubType(), "estimate_writer");
+    // Every output carries the instance's ownership strength: with EXCLUSIVE ownership a subscriber follows
+    // one serve for all of them, the status included.
+    dds::DataWriterQos estimate_qos = session.writerQos("estimate_writer");
+    if (options.ownership_strength) {
+      if (estimate_qos.ownership().kind != dds::EXCLUSIVE_OWNERSHIP_QOS)
+        throw std::invalid_argument("--ownership-strength has no effect with " + options.profiles_file +
+                                    ": its estimate_writer's ownership is SHARED (a hot standby needs EXCLUSIVE, as in "
+                                    "config/dds_profiles_hot_standby.xml)");
+      estimate_qos.ownership_strength().value = *options.ownership_strength;
+    }
+    odometry_writer_ = session.writer(topics.camera_odometry, new nav_msgs::msg::OdometryPubSubType(), estimate_qos);
     objects_writer_ =
-        session.writer(topics.object_motions, new dslam_msgs::msg::ObjectMotionArrayPubSubType(), "estimate_writer");
-    status_writer_ = session.writer(topics.status, new dslam_msgs::msg::StatusPubSubType(), "estimate_writer");
-    markers_writer_ =
-        session.writer(topics.markers, new visualization_msgs::msg::MarkerArrayPubSubType(), "estimate_writer");
+        session.writer(topics.object_motions, new dslam_msgs::msg::ObjectMotionArrayPubSubType(), estimate_qos);
+    status_writer_ = session.writer(topics.status, new dslam_msgs::msg::StatusPubSubType(), estimate_qos);
+    markers_writer_ = session.writer(topics.markers, new visualization_msgs::msg::MarkerArrayPubSubType(), estimate_qos);
     StagedPipelineCallbacks callbacks;
     callbacks.on_estimate = [this](const FrameEstimate& e, const FrameMeasurement&, const FrameTiming& timing) {
       publish(e, timing);
@@ -124,6 +138,13 @@ class Vehicle {
           session.reader(topics.depth, new sensor_msgs::msg::ImagePubSubType(), "sensor_reader", &depth_listener_));
       readers.push_back(
           session.reader(topics.mask, new sensor_msgs::msg::ImagePubSubType(), "sensor_reader", &mask_listener_));
+      // A driver may send any image compressed instead (image_transport's "compressed"): both forms are read.
+      readers.push_back(session.reader(topics.colour_compressed, new sensor_msgs::msg::CompressedImagePubSubType(),
+                                       "sensor_reader", &colour_compressed_listener_));
+      readers.push_back(session.reader(topics.depth_compressed, new sensor_msgs::msg::CompressedImagePubSubType(),
+                                       "sensor_reader", &depth_compressed_listener_));
+      readers.push_back(session.reader(topics.mask_compressed, new sensor_msgs::msg::CompressedImagePubSubType(),
+                                       "sensor_reader", &mask_compressed_listener_));
       readers.push_back(
           session.reader(topics.odometry, new nav_msgs::msg::OdometryPubSubType(), "sensor_reader", &odometry_listener_));
       if (masks_.source == MaskSourceKind::kLidarClusters)
@@ -234,8 +255,10 @@ class Vehicle {
   struct Sample {
     int64_t arrived_ns = 0;         // taken from the reader (steady clock)
     std::optional<ImageRole> role;  // none: odometry or a LiDAR scan
+    bool is_compressed = false;     // the image is in `compressed`, not `image`
     bool is_lidar = false;
     sensor_msgs::msg::Image image;
+    sensor_msgs::msg::CompressedImage compressed;
     nav_msgs::msg::Odometry odometry;
     sensor_msgs::msg::PointCloud2 cloud;
   };
@@ -264,9 +287,10 @@ class Vehicle {
     Sample prototype_;
     Msg Sample::*message_;
   };
-  static Sample ImageSample(ImageRole role) {
+  static Sample ImageSample(ImageRole role, bool compressed = false) {
     Sample s;
     s.role = role;
+    s.is_compressed = compressed;
     return s;
   }
   static Sample LidarSample() {
@@ -282,9 +306,11 @@ class Vehicle {
       if (sample->role) {
         const ImageRole role = *sample->role;
         const int64_t decode_start_ns = SteadyClockNs();
-        DecodedImage decoded = DecodeImage(sample->image, role);
+        DecodedImage decoded = sample->is_compressed ? DecodeCompressedImage(sample->compressed, role)
+                                                     : DecodeImage(sample->image, role);
         const PartArrival arrival{sample->arrived_ns, 1e-6 * static_cast<double>(SteadyClockNs() - decode_start_ns)};
-        const int64_t t_ns = StampToNs(sample->image.header().stamp());
+        const int64_t t_ns = StampToNs(sample->is_compressed ? sample->compressed.header().stamp()
+                                                             : sample->image.header().stamp());
         std::lock_guard<std::mutex> lock(mutex_);
         if (!decoded.error.empty()) {
           assembler_.reject(decoded.error);
@@ -461,6 +487,8 @@ class Vehicle {
   uint64_t frames_processed_ = 0;
   std::mutex status_writer_mutex_;
   InputListener<sensor_msgs::msg::Image> colour_listener_, depth_listener_, mask_listener_;
+  InputListener<sensor_msgs::msg::CompressedImage> colour_compressed_listener_, depth_compressed_listener_,
+      mask_compressed_listener_;
   InputListener<sensor_msgs::msg::PointCloud2> lidar_listener_;
   InputListener<nav_msgs::msg::Odometry> odometry_listener_;
   dds::DataWriter *odometry_writer_ = nullptr, *objects_writer_ = nullptr, *status_writer_ = nullptr,

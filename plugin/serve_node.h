@@ -38,6 +38,9 @@ struct ServeOptions {
   // ros_discovery_info in the GID layout of this distribution (plugin/ros_graph.h).
   std::string node_name = "dslam";
   std::string ros_distro = "jazzy";
+  // A hot standby: with a profile whose estimate_writer ownership is EXCLUSIVE, subscribers see only the
+  // estimates of the live serve with the highest strength (docs/serve.md, "Hot standby"). Unset: the profile's.
+  std::optional<uint32_t> ownership_strength;
 };
 
 struct VehicleStatus {

@@ -1,7 +1,8 @@
 #pragma once
 // Topic names (DDS names of ROS 2 topics: "rt/" + the ROS name). A vehicle's topics live under its
 // namespace: rt/<vehicle>/camera/color/image_raw; without a vehicle name, rt/camera/color/image_raw.
-// The LiDAR: rt/<vehicle>/lidar/points.
+// The LiDAR: rt/<vehicle>/lidar/points. Each image topic has its compressed form beside it, as ROS 2's
+// image_transport names it: <image topic>/compressed (sensor_msgs/CompressedImage).
 
 #include <string>
 
@@ -12,6 +13,7 @@ struct VehicleTopics {
   std::string camera_odometry, object_motions, status;  // outputs
   std::string markers;                                  // output for RViz
   std::string lidar;                                    // input when masks come from the LiDAR (PointCloud2)
+  std::string colour_compressed, depth_compressed, mask_compressed;  // inputs, sensor_msgs/CompressedImage
 };
 
 // Empty when `vehicle` can name a vehicle: "" (no namespace) or ROS 2 name tokens ([A-Za-z_][A-Za-z0-9_]*)
@@ -51,7 +53,10 @@ inline VehicleTopics TopicsFor(const std::string& vehicle) {
   const std::string ns = vehicle.empty() ? "rt/" : "rt/" + vehicle + "/";
   VehicleTopics t{ns + "camera/color/image_raw",        ns + "camera/depth/image_raw", ns + "camera/instance_mask",
                   ns + "odom",                          ns + "dslam/camera_odometry", ns + "dslam/object_motions",
-                  ns + "dslam/status",                  ns + "dslam/markers", ns + "lidar/points"};
+                  ns + "dslam/status",                  ns + "dslam/markers", ns + "lidar/points", {}, {}, {}};
+  t.colour_compressed = t.colour + "/compressed";
+  t.depth_compressed = t.depth + "/compressed";
+  t.mask_compressed = t.mask + "/compressed";
   return t;
 }
 

@@ -108,6 +108,12 @@ TEST(ServeCommand, ExitsTwoOnBadOptionsAndFourWhenItsOutputFolderIsInUse) {
   bad.config_path = std::string(DSLAM_SOURCE_DIR) + "/config/kitti_raw_traffic.yaml";
   EXPECT_EQ(RunServeCommand(bad, out, err), 2) << err.str();
   EXPECT_NE(err.str().find("masks.source lidar_clusters needs Tr_velo_to_cam"), std::string::npos) << err.str();
+  bad = options;
+  bad.ownership_strength = 5;  // a hot standby's strength with a profile of SHARED ownership does nothing
+  EXPECT_EQ(RunServeCommand(bad, out, err), 2) << err.str();
+  EXPECT_NE(err.str().find("--ownership-strength has no effect with"), std::string::npos) << err.str();
+  // (With config/dds_profiles_hot_standby.xml it runs: tests/network/hot_standby_test.cpp. Not here: Fast DDS keeps
+  // the first file's profiles of a name for the whole process.)
   const DirLock taken(options.out_dir + "/v");
   EXPECT_EQ(RunServeCommand(options, out, err), 4) << err.str();
   EXPECT_NE(err.str().find("is in use by another process"), std::string::npos) << err.str();
