@@ -135,13 +135,16 @@ TEST(RosGraph, ServeShowsOneNodePerVehicleOwningItsTopicsInJazzysLayout) {
         {ns + "camera/color/image_raw", "sensor_msgs::msg::dds_::Image_"},
         {ns + "camera/depth/image_raw", "sensor_msgs::msg::dds_::Image_"},
         {ns + "camera/instance_mask", "sensor_msgs::msg::dds_::Image_"},
+        {ns + "camera/color/image_raw/compressed", "sensor_msgs::msg::dds_::CompressedImage_"},
+        {ns + "camera/depth/image_raw/compressed", "sensor_msgs::msg::dds_::CompressedImage_"},
+        {ns + "camera/instance_mask/compressed", "sensor_msgs::msg::dds_::CompressedImage_"},
         {ns + "odom", "nav_msgs::msg::dds_::Odometry_"}};
     const std::map<std::string, std::string> publications = {
         {ns + "dslam/camera_odometry", "nav_msgs::msg::dds_::Odometry_"},
         {ns + "dslam/object_motions", "dslam_msgs::msg::dds_::ObjectMotionArray_"},
         {ns + "dslam/status", "dslam_msgs::msg::dds_::Status_"},
         {ns + "dslam/markers", "visualization_msgs::msg::dds_::MarkerArray_"}};
-    EXPECT_EQ(n.readers.size(), 4u);
+    EXPECT_EQ(n.readers.size(), 7u);  // the images raw and compressed, and the odometry
     EXPECT_EQ(n.writers.size(), 4u);
     EXPECT_EQ(NodeTopics(g, n, 16, false), subscriptions) << n.node_namespace;
     EXPECT_EQ(NodeTopics(g, n, 16, true), publications) << n.node_namespace;
@@ -170,8 +173,9 @@ TEST(RosGraph, ServeSpeaksHumblesLayoutWhenAskedAndAJazzyReaderSeesNoNodeInIt) {
   EXPECT_EQ(g.nodes[0].name, "estimator");
   const std::map<std::string, std::string> readers = NodeTopics(g, g.nodes[0], 24, false);
   const std::map<std::string, std::string> writers = NodeTopics(g, g.nodes[0], 24, true);
-  EXPECT_EQ(readers.size(), 4u);
+  EXPECT_EQ(readers.size(), 7u);
   EXPECT_TRUE(readers.count("rt/camera/color/image_raw"));
+  EXPECT_TRUE(readers.count("rt/camera/color/image_raw/compressed"));
   EXPECT_EQ(writers.size(), 4u);
   EXPECT_TRUE(writers.count("rt/dslam/camera_odometry"));
 
