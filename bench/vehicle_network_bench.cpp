@@ -5,13 +5,15 @@
 // compression) it prints the frames serve estimated, the frames the display host received, the latency from
 // capture (publish --stamp-now) to the estimate at the display host, and serve's own stages. Needs root,
 // iproute2 and nftables.
-// Usage: bench_vehicle_network [DATASET_DIR] [frames=60] [PROFILES.xml]
+// Usage: bench_vehicle_network [DATASET_DIR] [frames=60] [PROFILES.xml | --fleet]
 //   (without a dataset, or with "", it renders the city; needs Xvfb. With a profile file, only that profile is
-//   measured, with PNG and JPEG images: to try a QoS of one's own.)
+//   measured, with PNG and JPEG images: to try a QoS of one's own. --fleet: instead, 1, 2 and 3 vehicles, each on
+//   its own camera host, served by one serve host: the capacity of one host.)
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -134,6 +136,71 @@ void RunOne(const std::string& dataset, int frames, const Transport& t, double l
   std::fflush(stdout);
 }
 
+// N vehicles, each its own camera host, served by one compute host (serve --vehicle v0 ... in its default
+// newest-frame-wins mode) at 10 Hz each, with a subscriber per vehicle on the display host: the frames estimated
+// per vehicle tell whether one host keeps up with N.
+void RunFleet(const std::string& dataset, int frames, int vehicles, const std::string& profiles, const std::string& dir) {
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::vector<std::string> names = {"compute", "display"};
+  for (int v = 0; v < vehicles; ++v) names.push_back("camera" + std::to_string(v));
+  dslam::test::NetworkHosts net(names);
+  for (const auto& host : names) net.setBandwidth(host, 100.0);
+  const auto on = [&](const std::string& host, std::vector<std::string> args) {
+    std::vector<std::string> all = net.on(host);
+    all.push_back(DSLAM_BINARY);
+    all.insert(all.end(), args.begin(), args.end());
+    return all;
+  };
+  std::vector<std::string> serve_args = {"serve", "--calib", dataset + "/calib.txt", "--profiles", profiles, "--out",
+                                         dir + "/serve", "--status-every", "0"};
+  for (int v = 0; v < vehicles; ++v) serve_args.insert(serve_args.end(), {"--vehicle", "v" + std::to_string(v)});
+  dslam::test::Process serve(net.launcher(), on("compute", serve_args), dir + "/serve.log");
+  std::vector<std::unique_ptr<dslam::test::Process>> listens, publishers;
+  for (int v = 0; v < vehicles; ++v) {
+    const std::string id = std::to_string(v);
+    listens.push_back(std::make_unique<dslam::test::Process>(
+        net.launcher(),
+        on("display", {"listen", "--vehicle", "v" + id, "--profiles", profiles, "--out", dir + "/listen" + id,
+                       "--idle-stop", "5", "--max-run", "300", "--status-every", "0"}),
+        dir + "/listen" + id + ".log"));
+  }
+  for (int v = 0; v < vehicles; ++v)
+    if (!WaitForLine(dir + "/listen" + std::to_string(v) + ".log", "1 writer of estimates matched", 60s)) {
+      std::printf("  %d vehicles: the display host never matched vehicle %d's writer\n", vehicles, v);
+      return;
+    }
+  for (int v = 0; v < vehicles; ++v) {
+    const std::string id = std::to_string(v);
+    publishers.push_back(std::make_unique<dslam::test::Process>(
+        net.launcher(),
+        on("camera" + id, {"publish", "--vehicle", "v" + id, "--dataset", dataset, "--profiles", profiles, "--rate", "10",
+                           "--compress", "jpeg", "--stamp-now", "--wait", "60", "--frames", std::to_string(frames)}),
+        dir + "/publish" + id + ".log"));
+  }
+  for (auto& p : publishers) p->wait(300s);
+  std::this_thread::sleep_for(3s);
+  serve.signal(SIGTERM);
+  serve.wait(120s);
+  int all = 0, worst = frames;
+  double worst_p99 = 0.0;
+  for (int v = 0; v < vehicles; ++v) {
+    auto& listen = listens[static_cast<size_t>(v)];
+    if (listen->wait(10s) == -1) listen->signal(SIGTERM), listen->wait(30s);
+    const nlohmann::json run = ReadJson(dir + "/serve/v" + std::to_string(v) + "/metrics.json")["run"];
+    const nlohmann::json seen = ReadJson(dir + "/listen" + std::to_string(v) + "/listen.json");
+    const int estimated = run.is_object() ? run.value("frames", 0) : 0;
+    all += estimated;
+    worst = std::min(worst, estimated);
+    if (seen.contains("capture_to_receipt_ms"))
+      worst_p99 = std::max(worst_p99, seen["capture_to_receipt_ms"].value("p99_ms", 0.0));
+  }
+  std::printf("  %d vehicle%s at 10 Hz on one serve host: %d of %d frames estimated (the worst vehicle %d of %d), "
+              "capture->display p99 %.0f ms (the worst vehicle)\n",
+              vehicles, vehicles == 1 ? "" : "s", all, vehicles * frames, worst, frames, worst_p99);
+  std::fflush(stdout);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -160,7 +227,8 @@ int main(int argc, char** argv) {
       {"default, png", config + "dds_profiles.xml", "png"},
       {"vehicle network, png", config + "dds_profiles_vehicle_network.xml", "png"},
       {"vehicle network, jpeg", config + "dds_profiles_vehicle_network.xml", "jpeg"}};
-  if (argc > 3) transports = {{"given, png", argv[3], "png"}, {"given, jpeg", argv[3], "jpeg"}};
+  const bool fleet = argc > 3 && std::string(argv[3]) == "--fleet";
+  if (argc > 3 && !fleet) transports = {{"given, png", argv[3], "png"}, {"given, jpeg", argv[3], "jpeg"}};
   const dslam::ImageDataset data(dataset, dslam::ImageDatasetOptions{});
   std::printf("vehicle network: 3 hosts, links of 100 Mbit/s, %d frames at 10 Hz of %s (%dx%d)\n", frames,
               dataset.c_str(), data.read(0).image.cols, data.read(0).image.rows);
@@ -168,6 +236,12 @@ int main(int argc, char** argv) {
     std::printf("  images on the wire, %-4s: %.2f MB a frame (%.0f Mbit/s at 10 Hz)\n", compress,
                 BytesPerFrame(data, compress, 10) / 1e6, BytesPerFrame(data, compress, 10) * 8 * 10 / 1e6);
   int index = 0;
+  if (fleet) {
+    std::printf("fleet: vehicles each on its own camera host, one serve host, vehicle-network profile, JPEG\n");
+    for (int vehicles : {1, 2, 3})
+      RunFleet(dataset, frames, vehicles, config + "dds_profiles_vehicle_network.xml", work + "/fleet" + std::to_string(vehicles));
+    transports.clear();
+  }
   for (const Transport& t : transports)
     for (double loss : {0.0, 1.0, 5.0}) {
       if (t.name.rfind("default", 0) == 0 && loss > 1.0) continue;  // nothing left to show

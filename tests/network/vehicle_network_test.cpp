@@ -33,6 +33,7 @@ constexpr int kFrames = 60;
 
 struct NetworkRun {
   int publish_exit = -1, serve_exit = -1, listen_exit = -1;
+  bool discovered = false;  // the display host matched serve's writer
   nlohmann::json serve;   // metrics.json's "run"
   nlohmann::json listen;  // listen.json
   std::set<int64_t> listened_stamps;
@@ -58,7 +59,7 @@ const std::string kDefaultProfiles = std::string(DSLAM_SOURCE_DIR) + "/config/dd
 
 // publish -> serve -> listen across three hosts with `loss_percent` of Ethernet frames dropped at the bridge.
 NetworkRun RunThreeHosts(const std::string& name, double loss_percent, const std::string& profiles = kNetworkProfiles,
-                         const std::string& compress = "jpeg") {
+                         const std::string& compress = "jpeg", bool multicast = true) {
   const std::string city = test::RenderedCity("network_city", kFrames, 1);
   const std::string dir = test::TempPath(name);
   fs::remove_all(dir);
@@ -66,6 +67,7 @@ NetworkRun RunThreeHosts(const std::string& name, double loss_percent, const std
   test::NetworkHosts net({"camera", "compute", "display"});
   for (const char* host : {"camera", "compute", "display"}) net.setBandwidth(host, 100.0);
   net.setLoss(loss_percent);
+  net.setMulticast(multicast);
   const auto on = [&](const std::string& host, std::vector<std::string> args) {
     std::vector<std::string> all = net.on(host);
     all.push_back(DSLAM_BINARY);
@@ -82,7 +84,8 @@ NetworkRun RunThreeHosts(const std::string& name, double loss_percent, const std
                                       "5", "--max-run", "300", "--status-every", "0"}),
                        dir + "/listen.log");
   // The estimates are not kept for late subscribers: the display host must see serve's writer first.
-  const bool matched = WaitForLine(dir + "/listen.log", "1 writer of estimates matched", 60s);
+  const bool matched = WaitForLine(dir + "/listen.log", "1 writer of estimates matched", multicast ? 60s : 15s);
+  run.discovered = matched;
   if (matched) {
     test::Process publish(net.launcher(),
                           on("camera", {"publish", "--dataset", city, "--profiles", profiles, "--rate", "10",
@@ -173,6 +176,42 @@ TEST_F(VehicleNetwork, FivePercentLostKeepsServeRunningAndEveryFrameIsEstimatedO
                       run.serve.value("samples_lost", 0);
   EXPECT_GE(estimated + counted, kFrames) << run.logs;
   ExpectSubscriberHasWhatServeEstimated(run);
+}
+
+// The vehicle-network profile with the three hosts as initial peers: Fast DDS then also announces its participant
+// to each of them by unicast (what a user writes where the network drops multicast).
+std::string ProfilesWithInitialPeers(const std::string& dir) {
+  std::string xml = test::ReadFile(kNetworkProfiles);
+  const std::string peers =
+      "        <builtin>\n          <initialPeersList>\n"
+      "            <locator><udpv4><address>169.254.1.1</address></udpv4></locator>\n"
+      "            <locator><udpv4><address>169.254.1.2</address></udpv4></locator>\n"
+      "            <locator><udpv4><address>169.254.1.3</address></udpv4></locator>\n"
+      "          </initialPeersList>\n        </builtin>\n";
+  const size_t at = xml.find("      </rtps>");
+  if (at == std::string::npos) return {};
+  xml.insert(at, peers);
+  const std::string path = dir + "/initial_peers_profiles.xml";
+  std::ofstream(path) << xml;
+  return path;
+}
+
+TEST_F(VehicleNetwork, WithoutMulticastTheHostsFindEachOtherByTheirInitialPeers) {
+  const std::string dir = test::TempPath("network_peers_profiles");
+  fs::create_directories(dir);
+  // Multicast dropped: the shipped profile's discovery finds nothing.
+  const NetworkRun lost = RunThreeHosts("network_no_multicast", 0.0, kNetworkProfiles, "jpeg", /*multicast=*/false);
+  EXPECT_FALSE(lost.discovered) << lost.logs;
+  // With the hosts' addresses as initial peers, every frame is estimated and reaches the display host.
+  const std::string profiles = ProfilesWithInitialPeers(dir);
+  ASSERT_FALSE(profiles.empty());
+  const NetworkRun run = RunThreeHosts("network_initial_peers", 0.0, profiles, "jpeg", /*multicast=*/false);
+  ASSERT_TRUE(run.discovered) << run.logs;
+  ASSERT_EQ(run.publish_exit, 0) << run.logs;
+  ASSERT_TRUE(run.serve.contains("frames")) << run.logs;
+  EXPECT_EQ(run.serve.value("frames", 0), kFrames) << run.logs;
+  ExpectSubscriberHasWhatServeEstimated(run);
+  fs::remove_all(dir);
 }
 
 }  // namespace

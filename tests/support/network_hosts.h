@@ -89,6 +89,17 @@ class NetworkHosts {
       throw std::runtime_error("nft could not add the loss rule: " + rules.str());
   }
 
+  // IP multicast crosses the bridge, or not (as on networks whose switches drop it): DDS' multicast discovery
+  // then fails, and hosts must be given each other's addresses (initial peers).
+  void setMulticast(bool on) {
+    RunIn(bridge_, NftTool() + " delete table bridge dslam_multicast 2>/dev/null");
+    if (on) return;
+    const std::string rules =
+        "table bridge dslam_multicast { chain forwarded { type filter hook forward priority 0; policy accept; "
+        "ip daddr 224.0.0.0/4 drop; }; }";
+    if (RunIn(bridge_, NftTool() + " '" + rules + "'") != 0) throw std::runtime_error("nft could not drop multicast: " + rules);
+  }
+
   // Both directions of `host`'s link carry at most `mbit_per_s`; 0 removes the cap. A token bucket with a
   // 256 KiB burst and up to 200 ms of queue, as a switch port buffers.
   void setBandwidth(const std::string& host, double mbit_per_s) {
