@@ -104,7 +104,6 @@ class NetworkHosts {
   // 256 KiB burst and up to 200 ms of queue, as a switch port buffers.
   void setBandwidth(const std::string& host, double mbit_per_s) {
     const Host& h = find(host);
-    Run(IpTool() + " -n " + h.ns + " link set eth0 up");
     for (const auto& [ns, dev] : {std::pair{h.ns, std::string("eth0")}, std::pair{bridge_, h.port}}) {
       Run("tc -n " + ns + " qdisc del dev " + dev + " root 2>/dev/null");
       if (mbit_per_s > 0.0) {
