@@ -193,6 +193,12 @@ class Vehicle {
     wake_.notify_all();
   }
 
+  // Returns when every matched reliable reader has acknowledged what the writers sent, at most 2 s a writer.
+  void waitForAcknowledgments() {
+    for (dds::DataWriter* w : {odometry_writer_, objects_writer_, status_writer_, markers_writer_})
+      w->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(2, 0));
+  }
+
   // This vehicle's ROS 2 node: its namespace, name, readers and writers.
   const RosGraphNode& graphNode() const { return graph_node_; }
 
@@ -550,6 +556,9 @@ void ServeNode::abandonBacklogs() {
 
 void ServeNode::shutdown(std::ostream& log) {
   for (auto& [name, v] : impl_->vehicles) v->stop();
+  // Every estimate published reaches the subscribers before the participant goes: on a lossy link the last
+  // ones may still need a repair (at most 2 s each writer; a subscriber that is gone does not hold it up).
+  for (auto& [name, v] : impl_->vehicles) v->waitForAcknowledgments();
   impl_->graph.reset();
   impl_->session.reset();  // no more samples
   for (auto& [name, v] : impl_->vehicles) v->writeResults(log);
