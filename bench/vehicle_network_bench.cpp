@@ -13,8 +13,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <memory>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -37,29 +37,15 @@ struct Transport {
   std::string name, profiles, compress;
 };
 
-nlohmann::json ReadJson(const std::string& path) {
-  std::ifstream in(path);
-  nlohmann::json j = in ? nlohmann::json::parse(in, nullptr, false) : nlohmann::json();
-  return j.is_object() ? j : nlohmann::json::object();
-}
-
-bool WaitForLine(const std::string& log, const std::string& text, std::chrono::seconds timeout) {
-  const auto end = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < end) {
-    if (dslam::test::ReadFile(log).find(text) != std::string::npos) return true;
-    std::this_thread::sleep_for(100ms);
-  }
-  return false;
-}
-
 // Mean bytes a frame's images take on the wire with `compress` (colour, depth, mask), over the first frames.
 double BytesPerFrame(const dslam::ImageDataset& data, const std::string& compress, int frames) {
   double total = 0.0;
   const int n = std::min(frames, data.size());
   for (int i = 0; i < n; ++i) {
     const dslam::ImageFrame f = data.read(i);
-    const std::pair<const cv::Mat*, dslam::ImageRole> images[] = {
-        {&f.image, dslam::ImageRole::kColour}, {&f.depth_m, dslam::ImageRole::kDepth}, {&f.instance_ids, dslam::ImageRole::kMask}};
+    const std::pair<const cv::Mat*, dslam::ImageRole> images[] = {{&f.image, dslam::ImageRole::kColour},
+                                                                  {&f.depth_m, dslam::ImageRole::kDepth},
+                                                                  {&f.instance_ids, dslam::ImageRole::kMask}};
     for (const auto& [image, role] : images) {
       if (image->empty()) continue;
       if (compress == "none") {
@@ -67,7 +53,9 @@ double BytesPerFrame(const dslam::ImageDataset& data, const std::string& compres
         total += static_cast<double>(dslam::EncodeImage(sent, role, f.t_ns, "camera").data().size());
       } else {
         total += static_cast<double>(
-            dslam::EncodeCompressedImage(*image, role, *dslam::ParseImageCompression(compress), f.t_ns, "camera").data().size());
+            dslam::EncodeCompressedImage(*image, role, *dslam::ParseImageCompression(compress), f.t_ns, "camera")
+                .data()
+                .size());
       }
     }
   }
@@ -80,29 +68,26 @@ void RunOne(const std::string& dataset, int frames, const Transport& t, double l
   dslam::test::NetworkHosts net({"camera", "compute", "display"});
   for (const char* host : {"camera", "compute", "display"}) net.setBandwidth(host, 100.0);
   net.setLoss(loss_percent);
-  const auto on = [&](const std::string& host, std::vector<std::string> args) {
-    std::vector<std::string> all = net.on(host);
-    all.push_back(DSLAM_BINARY);
-    all.insert(all.end(), args.begin(), args.end());
-    return all;
-  };
   dslam::test::Process serve(net.launcher(),
-                             on("compute", {"serve", "--calib", dataset + "/calib.txt", "--profiles", t.profiles, "--out",
-                                            dir + "/serve", "--status-every", "0"}),
+                             net.on("compute", DSLAM_BINARY,
+                                    {"serve", "--calib", dataset + "/calib.txt", "--profiles", t.profiles, "--out",
+                                     dir + "/serve", "--status-every", "0"}),
                              dir + "/serve.log");
   dslam::test::Process listen(net.launcher(),
-                              on("display", {"listen", "--profiles", t.profiles, "--out", dir + "/listen", "--idle-stop", "5",
-                                             "--max-run", "300", "--status-every", "0"}),
+                              net.on("display", DSLAM_BINARY,
+                                     {"listen", "--profiles", t.profiles, "--out", dir + "/listen", "--idle-stop", "5",
+                                      "--max-run", "300", "--status-every", "0"}),
                               dir + "/listen.log");
-  if (!WaitForLine(dir + "/listen.log", "1 writer of estimates matched", 60s)) {
+  if (!dslam::test::WaitForLogLine(dir + "/listen.log", "1 writer of estimates matched", 60s)) {
     std::printf("  %-22s loss %3.0f %%: the display host never matched serve's writer\n", t.name.c_str(), loss_percent);
     return;
   }
-  dslam::test::Process publish(net.launcher(),
-                               on("camera", {"publish", "--dataset", dataset, "--profiles", t.profiles, "--rate", "10",
-                                             "--compress", t.compress, "--stamp-now", "--wait", "60", "--frames",
-                                             std::to_string(frames)}),
-                               dir + "/publish.log");
+  dslam::test::Process publish(
+      net.launcher(),
+      net.on("camera", DSLAM_BINARY,
+             {"publish", "--dataset", dataset, "--profiles", t.profiles, "--rate", "10", "--compress", t.compress,
+              "--stamp-now", "--wait", "60", "--frames", std::to_string(frames)}),
+      dir + "/publish.log");
   publish.wait(300s);
   // serve stops first (it estimates what it has assembled, and publishes it), then the display host, which ends
   // 5 s after the last estimate: everything serve published had the time to arrive.
@@ -110,8 +95,8 @@ void RunOne(const std::string& dataset, int frames, const Transport& t, double l
   serve.signal(SIGTERM);
   serve.wait(120s);
   if (listen.wait(10s) == -1) listen.signal(SIGTERM), listen.wait(30s);  // it received nothing to be idle after
-  const nlohmann::json run = ReadJson(dir + "/serve/default/metrics.json")["run"];
-  const nlohmann::json seen = ReadJson(dir + "/listen/listen.json");
+  const nlohmann::json run = dslam::test::ReadJsonObject(dir + "/serve/default/metrics.json")["run"];
+  const nlohmann::json seen = dslam::test::ReadJsonObject(dir + "/listen/listen.json");
   const auto stage = [&](const char* name) {
     if (!run.is_object() || !run.contains("latency_ms") || !run["latency_ms"].contains(name)) return std::string("-");
     char s[32];
@@ -127,46 +112,44 @@ void RunOne(const std::string& dataset, int frames, const Transport& t, double l
     capture = s;
   }
   const int estimated = run.is_object() ? run.value("frames", 0) : 0;
-  std::printf("  %-22s loss %3.0f %%: estimated %3d/%d, at the display %3d, capture->display %9s ms, lost %3d, "
-              "incomplete %3d, backlog %3d | input %s, decode %s, front-end %s, back-end %s\n",
-              t.name.c_str(), loss_percent, estimated, frames, seen.value("frames", 0), capture.c_str(),
-              run.is_object() ? run.value("samples_lost", 0) : 0, run.is_object() ? run.value("dropped_incomplete", 0) : 0,
-              run.is_object() ? run.value("dropped_queue_full", 0) : 0, stage("input").c_str(), stage("decode").c_str(),
-              stage("frontend").c_str(), stage("backend").c_str());
+  std::printf(
+      "  %-22s loss %3.0f %%: estimated %3d/%d, at the display %3d, capture->display %9s ms, lost %3d, "
+      "incomplete %3d, backlog %3d | input %s, decode %s, front-end %s, back-end %s\n",
+      t.name.c_str(), loss_percent, estimated, frames, seen.value("frames", 0), capture.c_str(),
+      run.is_object() ? run.value("samples_lost", 0) : 0, run.is_object() ? run.value("dropped_incomplete", 0) : 0,
+      run.is_object() ? run.value("dropped_queue_full", 0) : 0, stage("input").c_str(), stage("decode").c_str(),
+      stage("frontend").c_str(), stage("backend").c_str());
   std::fflush(stdout);
 }
 
 // N vehicles, each its own camera host, served by one compute host (serve --vehicle v0 ... in its default
 // newest-frame-wins mode) at 10 Hz each, with a subscriber per vehicle on the display host: the frames estimated
 // per vehicle tell whether one host keeps up with N.
-void RunFleet(const std::string& dataset, int frames, int vehicles, const std::string& profiles, const std::string& dir) {
+void RunFleet(const std::string& dataset, int frames, int vehicles, const std::string& profiles,
+              const std::string& dir) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::vector<std::string> names = {"compute", "display"};
   for (int v = 0; v < vehicles; ++v) names.push_back("camera" + std::to_string(v));
   dslam::test::NetworkHosts net(names);
   for (const auto& host : names) net.setBandwidth(host, 100.0);
-  const auto on = [&](const std::string& host, std::vector<std::string> args) {
-    std::vector<std::string> all = net.on(host);
-    all.push_back(DSLAM_BINARY);
-    all.insert(all.end(), args.begin(), args.end());
-    return all;
-  };
-  std::vector<std::string> serve_args = {"serve", "--calib", dataset + "/calib.txt", "--profiles", profiles, "--out",
-                                         dir + "/serve", "--status-every", "0"};
+  std::vector<std::string> serve_args = {"serve", "--calib",      dataset + "/calib.txt", "--profiles", profiles,
+                                         "--out", dir + "/serve", "--status-every",       "0"};
   for (int v = 0; v < vehicles; ++v) serve_args.insert(serve_args.end(), {"--vehicle", "v" + std::to_string(v)});
-  dslam::test::Process serve(net.launcher(), on("compute", serve_args), dir + "/serve.log");
+  dslam::test::Process serve(net.launcher(), net.on("compute", DSLAM_BINARY, serve_args), dir + "/serve.log");
   std::vector<std::unique_ptr<dslam::test::Process>> listens, publishers;
   for (int v = 0; v < vehicles; ++v) {
     const std::string id = std::to_string(v);
     listens.push_back(std::make_unique<dslam::test::Process>(
         net.launcher(),
-        on("display", {"listen", "--vehicle", "v" + id, "--profiles", profiles, "--out", dir + "/listen" + id,
-                       "--idle-stop", "5", "--max-run", "300", "--status-every", "0"}),
+        net.on("display", DSLAM_BINARY,
+               {"listen", "--vehicle", "v" + id, "--profiles", profiles, "--out", dir + "/listen" + id, "--idle-stop",
+                "5", "--max-run", "300", "--status-every", "0"}),
         dir + "/listen" + id + ".log"));
   }
   for (int v = 0; v < vehicles; ++v)
-    if (!WaitForLine(dir + "/listen" + std::to_string(v) + ".log", "1 writer of estimates matched", 60s)) {
+    if (!dslam::test::WaitForLogLine(dir + "/listen" + std::to_string(v) + ".log", "1 writer of estimates matched",
+                                     60s)) {
       std::printf("  %d vehicles: the display host never matched vehicle %d's writer\n", vehicles, v);
       return;
     }
@@ -174,8 +157,9 @@ void RunFleet(const std::string& dataset, int frames, int vehicles, const std::s
     const std::string id = std::to_string(v);
     publishers.push_back(std::make_unique<dslam::test::Process>(
         net.launcher(),
-        on("camera" + id, {"publish", "--vehicle", "v" + id, "--dataset", dataset, "--profiles", profiles, "--rate", "10",
-                           "--compress", "jpeg", "--stamp-now", "--wait", "60", "--frames", std::to_string(frames)}),
+        net.on("camera" + id, DSLAM_BINARY,
+               {"publish", "--vehicle", "v" + id, "--dataset", dataset, "--profiles", profiles, "--rate", "10",
+                "--compress", "jpeg", "--stamp-now", "--wait", "60", "--frames", std::to_string(frames)}),
         dir + "/publish" + id + ".log"));
   }
   for (auto& p : publishers) p->wait(300s);
@@ -187,17 +171,19 @@ void RunFleet(const std::string& dataset, int frames, int vehicles, const std::s
   for (int v = 0; v < vehicles; ++v) {
     auto& listen = listens[static_cast<size_t>(v)];
     if (listen->wait(10s) == -1) listen->signal(SIGTERM), listen->wait(30s);
-    const nlohmann::json run = ReadJson(dir + "/serve/v" + std::to_string(v) + "/metrics.json")["run"];
-    const nlohmann::json seen = ReadJson(dir + "/listen" + std::to_string(v) + "/listen.json");
+    const nlohmann::json run =
+        dslam::test::ReadJsonObject(dir + "/serve/v" + std::to_string(v) + "/metrics.json")["run"];
+    const nlohmann::json seen = dslam::test::ReadJsonObject(dir + "/listen" + std::to_string(v) + "/listen.json");
     const int estimated = run.is_object() ? run.value("frames", 0) : 0;
     all += estimated;
     worst = std::min(worst, estimated);
     if (seen.contains("capture_to_receipt_ms"))
       worst_p99 = std::max(worst_p99, seen["capture_to_receipt_ms"].value("p99_ms", 0.0));
   }
-  std::printf("  %d vehicle%s at 10 Hz on one serve host: %d of %d frames estimated (the worst vehicle %d of %d), "
-              "capture->display p99 %.0f ms (the worst vehicle)\n",
-              vehicles, vehicles == 1 ? "" : "s", all, vehicles * frames, worst, frames, worst_p99);
+  std::printf(
+      "  %d vehicle%s at 10 Hz on one serve host: %d of %d frames estimated (the worst vehicle %d of %d), "
+      "capture->display p99 %.0f ms (the worst vehicle)\n",
+      vehicles, vehicles == 1 ? "" : "s", all, vehicles * frames, worst, frames, worst_p99);
   std::fflush(stdout);
 }
 
@@ -222,24 +208,26 @@ int main(int argc, char** argv) {
     }
   }
   const std::string config = DSLAM_SOURCE_DIR "/config/";
-  std::vector<Transport> transports = {
-      {"default, raw", config + "dds_profiles.xml", "none"},
-      {"default, png", config + "dds_profiles.xml", "png"},
-      {"vehicle network, png", config + "dds_profiles_vehicle_network.xml", "png"},
-      {"vehicle network, jpeg", config + "dds_profiles_vehicle_network.xml", "jpeg"}};
+  std::vector<Transport> transports = {{"default, raw", config + "dds_profiles.xml", "none"},
+                                       {"default, png", config + "dds_profiles.xml", "png"},
+                                       {"vehicle network, png", config + "dds_profiles_vehicle_network.xml", "png"},
+                                       {"vehicle network, jpeg", config + "dds_profiles_vehicle_network.xml", "jpeg"}};
   const bool fleet = argc > 3 && std::string(argv[3]) == "--fleet";
   if (argc > 3 && !fleet) transports = {{"given, png", argv[3], "png"}, {"given, jpeg", argv[3], "jpeg"}};
   const dslam::ImageDataset data(dataset, dslam::ImageDatasetOptions{});
   std::printf("vehicle network: 3 hosts, links of 100 Mbit/s, %d frames at 10 Hz of %s (%dx%d)\n", frames,
               dataset.c_str(), data.read(0).image.cols, data.read(0).image.rows);
-  for (const char* compress : {"none", "png", "jpeg"})
-    std::printf("  images on the wire, %-4s: %.2f MB a frame (%.0f Mbit/s at 10 Hz)\n", compress,
-                BytesPerFrame(data, compress, 10) / 1e6, BytesPerFrame(data, compress, 10) * 8 * 10 / 1e6);
+  for (const char* compress : {"none", "png", "jpeg"}) {
+    const double bytes = BytesPerFrame(data, compress, 10);
+    std::printf("  images on the wire, %-4s: %.2f MB a frame (%.0f Mbit/s at 10 Hz)\n", compress, bytes / 1e6,
+                bytes * 8 * 10 / 1e6);
+  }
   int index = 0;
   if (fleet) {
     std::printf("fleet: vehicles each on its own camera host, one serve host, vehicle-network profile, JPEG\n");
     for (int vehicles : {1, 2, 3})
-      RunFleet(dataset, frames, vehicles, config + "dds_profiles_vehicle_network.xml", work + "/fleet" + std::to_string(vehicles));
+      RunFleet(dataset, frames, vehicles, config + "dds_profiles_vehicle_network.xml",
+               work + "/fleet" + std::to_string(vehicles));
     transports.clear();
   }
   for (const Transport& t : transports)

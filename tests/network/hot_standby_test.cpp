@@ -31,15 +31,6 @@ struct Receipt {
   std::string writer;
 };
 
-bool LogHas(const std::string& log, const std::string& text, std::chrono::seconds timeout) {
-  const auto end = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < end) {
-    if (test::ReadFile(log).find(text) != std::string::npos) return true;
-    std::this_thread::sleep_for(100ms);
-  }
-  return false;
-}
-
 class HotStandby : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -54,36 +45,47 @@ TEST_F(HotStandby, WhenThePrimaryDiesTheStandbyTakesOverWithinTheLeaseAndThePrim
   fs::remove_all(dir);
   fs::create_directories(dir);
   test::NetworkHosts net({"camera", "primary", "standby", "display"});
-  const auto on = [&](const std::string& host, std::vector<std::string> args) {
-    std::vector<std::string> all = net.on(host);
-    all.push_back(DSLAM_BINARY);
-    all.insert(all.end(), args.begin(), args.end());
-    return all;
-  };
   // Both estimate every frame (two serve instances and the camera share this machine's two cores).
   const auto serve_args = [&](const std::string& out, int strength) {
-    return std::vector<std::string>{"serve", "--calib", city + "/calib.txt", "--profiles", kStandbyProfiles, "--out", out,
-                                    "--status-every", "0", "--every-frame", "--rate", "5", "--ownership-strength",
+    return std::vector<std::string>{"serve",
+                                    "--calib",
+                                    city + "/calib.txt",
+                                    "--profiles",
+                                    kStandbyProfiles,
+                                    "--out",
+                                    out,
+                                    "--status-every",
+                                    "0",
+                                    "--every-frame",
+                                    "--rate",
+                                    "5",
+                                    "--ownership-strength",
                                     std::to_string(strength)};
   };
-  auto primary = std::make_unique<test::Process>(net.launcher(), on("primary", serve_args(dir + "/primary", 20)),
-                                                 dir + "/primary.log");
-  test::Process standby(net.launcher(), on("standby", serve_args(dir + "/standby", 10)), dir + "/standby.log");
+  auto primary = std::make_unique<test::Process>(
+      net.launcher(), net.on("primary", DSLAM_BINARY, serve_args(dir + "/primary", 20)), dir + "/primary.log");
+  test::Process standby(net.launcher(), net.on("standby", DSLAM_BINARY, serve_args(dir + "/standby", 10)),
+                        dir + "/standby.log");
   test::Process listen(net.launcher(),
-                       on("display", {"listen", "--profiles", kStandbyProfiles, "--out", dir + "/listen", "--rate", "5",
-                                      "--idle-stop", "5", "--max-run", "300", "--status-every", "0"}),
+                       net.on("display", DSLAM_BINARY,
+                              {"listen", "--profiles", kStandbyProfiles, "--out", dir + "/listen", "--rate", "5",
+                               "--idle-stop", "5", "--max-run", "300", "--status-every", "0"}),
                        dir + "/listen.log");
-  ASSERT_TRUE(LogHas(dir + "/listen.log", "2 writers of estimates matched", 60s)) << test::ReadFile(dir + "/listen.log");
+  ASSERT_TRUE(test::WaitForLogLine(dir + "/listen.log", "2 writers of estimates matched", 60s))
+      << test::ReadFile(dir + "/listen.log");
   test::Process publish(net.launcher(),
-                        on("camera", {"publish", "--dataset", city, "--profiles", kStandbyProfiles, "--rate", "5",
-                                      "--compress", "jpeg", "--stamp-now", "--wait", "60"}),
+                        net.on("camera", DSLAM_BINARY,
+                               {"publish", "--dataset", city, "--profiles", kStandbyProfiles, "--rate", "5",
+                                "--compress", "jpeg", "--stamp-now", "--wait", "60"}),
                         dir + "/publish.log");
-  ASSERT_TRUE(LogHas(dir + "/publish.log", "published frame 10/", 60s)) << test::ReadFile(dir + "/publish.log");
+  ASSERT_TRUE(test::WaitForLogLine(dir + "/publish.log", "published frame 10/", 60s))
+      << test::ReadFile(dir + "/publish.log");
   std::this_thread::sleep_for(2s);
   primary->signal(SIGKILL);  // the primary's host dies mid-stream
   primary->wait(10s);
   std::this_thread::sleep_for(4s);
-  primary = std::make_unique<test::Process>(net.launcher(), on("primary", serve_args(dir + "/primary_again", 20)),
+  primary = std::make_unique<test::Process>(net.launcher(),
+                                            net.on("primary", DSLAM_BINARY, serve_args(dir + "/primary_again", 20)),
                                             dir + "/primary_again.log");
   ASSERT_EQ(publish.wait(120s), 0) << test::ReadFile(dir + "/publish.log");
   std::this_thread::sleep_for(3s);
@@ -112,17 +114,21 @@ TEST_F(HotStandby, WhenThePrimaryDiesTheStandbyTakesOverWithinTheLeaseAndThePrim
   std::vector<size_t> first_row_of;
   for (size_t i = 0; i < rows.size(); ++i)
     if (owners.empty() || rows[i].writer != owners.back()) owners.push_back(rows[i].writer), first_row_of.push_back(i);
-  if (owners.size() == 4 && first_row_of[1] <= 2) owners.erase(owners.begin()), first_row_of.erase(first_row_of.begin());
+  if (owners.size() == 4 && first_row_of[1] <= 2)
+    owners.erase(owners.begin()), first_row_of.erase(first_row_of.begin());
   // The primary, the standby after the primary died, the primary again after it returned.
   ASSERT_EQ(owners.size(), 3u) << "owners in turn: " << owners.size() << "\n" << logs;
   EXPECT_NE(owners[2], owners[0]);  // a new process: a new writer
-  const auto turn_end = [&](size_t turn) { return turn + 1 < first_row_of.size() ? first_row_of[turn + 1] : rows.size(); };
+  const auto turn_end = [&](size_t turn) {
+    return turn + 1 < first_row_of.size() ? first_row_of[turn + 1] : rows.size();
+  };
   // While an owner holds the topic, no stamp comes twice or goes back (the other instance's are not delivered).
   for (size_t turn = 0; turn < 3; ++turn)
     for (size_t i = first_row_of[turn] + 1; i < turn_end(turn); ++i)
       EXPECT_GT(rows[i].stamp_ns, rows[i - 1].stamp_ns) << "turn " << turn << ", row " << i;
   // The failover's gap at the display: the participant lease (500 ms) and the frame in progress.
-  const double gap_ms = 1e-6 * static_cast<double>(rows[first_row_of[1]].received_ns - rows[first_row_of[1] - 1].received_ns);
+  const double gap_ms =
+      1e-6 * static_cast<double>(rows[first_row_of[1]].received_ns - rows[first_row_of[1] - 1].received_ns);
   EXPECT_LE(gap_ms, 1000.0) << logs;
   // After the gap, no frame of the standby's turn is missing: stamps follow at the sensor's period (200 ms).
   for (size_t i = first_row_of[1] + 1; i < turn_end(1); ++i)

@@ -34,26 +34,11 @@ constexpr int kFrames = 60;
 struct NetworkRun {
   int publish_exit = -1, serve_exit = -1, listen_exit = -1;
   bool discovered = false;  // the display host matched serve's writer
-  nlohmann::json serve;   // metrics.json's "run"
-  nlohmann::json listen;  // listen.json
+  nlohmann::json serve;     // metrics.json's "run"
+  nlohmann::json listen;    // listen.json
   std::set<int64_t> listened_stamps;
-  std::string logs;       // for failure messages
+  std::string logs;  // for failure messages
 };
-
-nlohmann::json ReadJson(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return {};
-  return nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
-}
-
-bool WaitForLine(const std::string& log, const std::string& text, std::chrono::seconds timeout) {
-  const auto end = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < end) {
-    if (test::ReadFile(log).find(text) != std::string::npos) return true;
-    std::this_thread::sleep_for(100ms);
-  }
-  return false;
-}
 
 const std::string kDefaultProfiles = std::string(DSLAM_SOURCE_DIR) + "/config/dds_profiles.xml";
 
@@ -68,28 +53,26 @@ NetworkRun RunThreeHosts(const std::string& name, double loss_percent, const std
   for (const char* host : {"camera", "compute", "display"}) net.setBandwidth(host, 100.0);
   net.setLoss(loss_percent);
   net.setMulticast(multicast);
-  const auto on = [&](const std::string& host, std::vector<std::string> args) {
-    std::vector<std::string> all = net.on(host);
-    all.push_back(DSLAM_BINARY);
-    all.insert(all.end(), args.begin(), args.end());
-    return all;
-  };
   NetworkRun run;
   test::Process serve(net.launcher(),
-                      on("compute", {"serve", "--calib", city + "/calib.txt", "--profiles", profiles, "--out",
-                                     dir + "/serve", "--status-every", "0", "--every-frame"}),
+                      net.on("compute", DSLAM_BINARY,
+                             {"serve", "--calib", city + "/calib.txt", "--profiles", profiles, "--out", dir + "/serve",
+                              "--status-every", "0", "--every-frame"}),
                       dir + "/serve.log");
   test::Process listen(net.launcher(),
-                       on("display", {"listen", "--profiles", profiles, "--out", dir + "/listen", "--idle-stop",
-                                      "5", "--max-run", "300", "--status-every", "0"}),
+                       net.on("display", DSLAM_BINARY,
+                              {"listen", "--profiles", profiles, "--out", dir + "/listen", "--idle-stop", "5",
+                               "--max-run", "300", "--status-every", "0"}),
                        dir + "/listen.log");
   // The estimates are not kept for late subscribers: the display host must see serve's writer first.
-  const bool matched = WaitForLine(dir + "/listen.log", "1 writer of estimates matched", multicast ? 60s : 15s);
+  const bool matched =
+      test::WaitForLogLine(dir + "/listen.log", "1 writer of estimates matched", multicast ? 60s : 15s);
   run.discovered = matched;
   if (matched) {
     test::Process publish(net.launcher(),
-                          on("camera", {"publish", "--dataset", city, "--profiles", profiles, "--rate", "10",
-                                        "--compress", compress, "--stamp-now", "--wait", "60"}),
+                          net.on("camera", DSLAM_BINARY,
+                                 {"publish", "--dataset", city, "--profiles", profiles, "--rate", "10", "--compress",
+                                  compress, "--stamp-now", "--wait", "60"}),
                           dir + "/publish.log");
     run.publish_exit = publish.wait(180s);
   }
@@ -100,18 +83,17 @@ NetworkRun RunThreeHosts(const std::string& name, double loss_percent, const std
   run.serve_exit = serve.wait(120s);
   run.listen_exit = listen.wait(10s);
   if (run.listen_exit == -1) listen.signal(SIGTERM), run.listen_exit = listen.wait(30s);  // nothing received
-  run.serve = ReadJson(dir + "/serve/default/metrics.json")["run"];
-  run.listen = ReadJson(dir + "/listen/listen.json");
+  run.serve = test::ReadJsonObject(dir + "/serve/default/metrics.json")["run"];
+  run.listen = test::ReadJsonObject(dir + "/listen/listen.json");
   if (!run.serve.is_object()) run.serve = nlohmann::json::object();  // nothing estimated: no metrics.json
-  if (!run.listen.is_object()) run.listen = nlohmann::json::object();
   std::ifstream csv(dir + "/listen/estimates.csv");
   std::string line;
   std::getline(csv, line);  // header
   while (std::getline(csv, line)) run.listened_stamps.insert(std::stoll(line.substr(0, line.find(','))));
   for (const char* log : {"serve.log", "listen.log", "publish.log"})
     run.logs += std::string("--- ") + log + "\n" + test::ReadFile(dir + "/" + log);
-  std::cout << name << ": serve estimated " << run.serve.value("frames", 0) << " of " << kFrames << " frames; display host: "
-            << run.listen.dump() << std::endl;
+  std::cout << name << ": serve estimated " << run.serve.value("frames", 0) << " of " << kFrames
+            << " frames; display host: " << run.listen.dump() << std::endl;
   return run;
 }
 

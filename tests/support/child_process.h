@@ -15,6 +15,8 @@
 #include <thread>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 extern char** environ;
 
 namespace dslam::test {
@@ -75,6 +77,23 @@ inline std::string ReadFile(const std::string& path) {
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+// A JSON file a process wrote, as an object; an empty object when it is missing or not a JSON object.
+inline nlohmann::json ReadJsonObject(const std::string& path) {
+  std::ifstream in(path);
+  nlohmann::json j = in ? nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false) : nlohmann::json();
+  return j.is_object() ? j : nlohmann::json::object();
+}
+
+// True once a process's log file holds `text` (a line it prints when ready), false after `timeout`.
+inline bool WaitForLogLine(const std::string& log, const std::string& text, std::chrono::seconds timeout) {
+  const auto end = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < end) {
+    if (ReadFile(log).find(text) != std::string::npos) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return false;
 }
 
 }  // namespace dslam::test

@@ -13,7 +13,6 @@
 #include <unistd.h>
 
 #include <cerrno>
-
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -33,14 +32,16 @@ class NetworkHosts {
     if (IpTool().empty()) return "iproute2's ip is not installed";
     if (NftTool().empty()) return "nftables' nft is not installed (scripts/deps.txt)";
     const std::string probe = "dslamnet" + std::to_string(::getpid()) + "_probe";
-    if (Run(IpTool() + " netns add " + probe) != 0) return "this machine does not let this process make network namespaces";
+    if (Run(IpTool() + " netns add " + probe) != 0)
+      return "this machine does not let this process make network namespaces";
     Run(IpTool() + " netns del " + probe);
     return {};
   }
 
   // Hosts named `names` (letters and digits), addresses 169.254.1.1, .2, ... in that order. Throws
   // std::runtime_error naming the command that failed.
-  explicit NetworkHosts(const std::vector<std::string>& names) : prefix_("dslamnet" + std::to_string(::getpid()) + "_") {
+  explicit NetworkHosts(const std::vector<std::string>& names)
+      : prefix_("dslamnet" + std::to_string(::getpid()) + "_") {
     RemoveLeftovers();
     bridge_ = prefix_ + "br";
     Must("netns add " + bridge_);
@@ -73,7 +74,13 @@ class NetworkHosts {
   // The program to spawn and its first arguments that run a command on `host`: ip netns exec NS ... (ip
   // executes the command in place, so the process's pid is the command's).
   std::string launcher() const { return IpTool(); }
-  std::vector<std::string> on(const std::string& host) const { return {"netns", "exec", find(host).ns}; }
+  // launcher()'s arguments that run `program` with `args` on `host`.
+  std::vector<std::string> on(const std::string& host, const std::string& program,
+                              const std::vector<std::string>& args) const {
+    std::vector<std::string> all = {"netns", "exec", find(host).ns, program};
+    all.insert(all.end(), args.begin(), args.end());
+    return all;
+  }
   std::string address(const std::string& host) const { return find(host).address; }
 
   // Every Ethernet frame crossing the bridge is dropped with this probability (percent, 0 to 100, in steps of
@@ -97,7 +104,8 @@ class NetworkHosts {
     const std::string rules =
         "table bridge dslam_multicast { chain forwarded { type filter hook forward priority 0; policy accept; "
         "ip daddr 224.0.0.0/4 drop; }; }";
-    if (RunIn(bridge_, NftTool() + " '" + rules + "'") != 0) throw std::runtime_error("nft could not drop multicast: " + rules);
+    if (RunIn(bridge_, NftTool() + " '" + rules + "'") != 0)
+      throw std::runtime_error("nft could not drop multicast: " + rules);
   }
 
   // Both directions of `host`'s link carry at most `mbit_per_s`; 0 removes the cap. A token bucket with a
@@ -146,7 +154,8 @@ class NetworkHosts {
     return Run(IpTool() + " netns exec " + ns + " " + command);
   }
   void Must(const std::string& ip_arguments) {
-    if (Run(IpTool() + " " + ip_arguments) != 0) throw std::runtime_error("could not make the test network: ip " + ip_arguments);
+    if (Run(IpTool() + " " + ip_arguments) != 0)
+      throw std::runtime_error("could not make the test network: ip " + ip_arguments);
   }
 
   // Namespaces of processes that no longer run (a test killed before its destructor ran).
