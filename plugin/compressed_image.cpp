@@ -61,9 +61,11 @@ std::optional<ImageCompression> ParseImageCompression(const std::string& name) {
   return std::nullopt;
 }
 
-sensor_msgs::msg::CompressedImage EncodeCompressedImage(const cv::Mat& image, ImageRole role, ImageCompression compression,
-                                                        int64_t t_ns, const std::string& frame_id) {
-  if (compression == ImageCompression::kNone) throw std::invalid_argument("EncodeCompressedImage: no compression asked for");
+sensor_msgs::msg::CompressedImage EncodeCompressedImage(const cv::Mat& image, ImageRole role,
+                                                        ImageCompression compression, int64_t t_ns,
+                                                        const std::string& frame_id) {
+  if (compression == ImageCompression::kNone)
+    throw std::invalid_argument("EncodeCompressedImage: no compression asked for");
   sensor_msgs::msg::CompressedImage msg;
   msg.header().stamp(NsToStamp(t_ns));
   msg.header().frame_id(frame_id);
@@ -88,7 +90,8 @@ sensor_msgs::msg::CompressedImage EncodeCompressedImage(const cv::Mat& image, Im
     case ImageRole::kMask: {
       const cv::Mat ids = MaskForTransport(image);
       if (ids.depth() != CV_16U)
-        throw std::invalid_argument("instance ids above 65535 cannot travel as a 16-bit PNG: publish masks uncompressed");
+        throw std::invalid_argument(
+            "instance ids above 65535 cannot travel as a 16-bit PNG: publish masks uncompressed");
       pixels = ids;
       encoding = "16UC1";
       break;
@@ -117,11 +120,13 @@ DecodedImage DecodeCompressedImage(const sensor_msgs::msg::CompressedImage& msg,
     return out;
   }
   if (jpeg && role != ImageRole::kColour) {
-    out.error = what + ": format '" + msg.format() + "': JPEG is lossy, accepted for colour only (send depth and masks as png)";
+    out.error =
+        what + ": format '" + msg.format() + "': JPEG is lossy, accepted for colour only (send depth and masks as png)";
     return out;
   }
   if (compressed_depth && format.rfind("32fc1", 0) == 0) {
-    out.error = what + ": format '" + msg.format() + "' (inverse depth quantised to 16 bits) is not supported: send 16UC1";
+    out.error =
+        what + ": format '" + msg.format() + "' (inverse depth quantised to 16 bits) is not supported: send 16UC1";
     return out;
   }
   if (compressed_depth && role != ImageRole::kDepth) {
@@ -134,8 +139,12 @@ DecodedImage DecodeCompressedImage(const sensor_msgs::msg::CompressedImage& msg,
     out.error = what + ": no data";
     return out;
   }
-  std::vector<uint8_t> bytes(msg.data().begin() + static_cast<std::ptrdiff_t>(offset), msg.data().end());
-  const std::string problem = png ? FindPngProblem(bytes, kMaxCompressedPixels) : FindJpegProblem(bytes, kMaxCompressedPixels);
+  // The sample's own bytes, copied only when a header must be skipped (the checks take a whole vector).
+  std::vector<uint8_t> after_header;
+  if (offset > 0) after_header.assign(msg.data().begin() + static_cast<std::ptrdiff_t>(offset), msg.data().end());
+  const std::vector<uint8_t>& bytes = offset > 0 ? after_header : msg.data();
+  const std::string problem =
+      png ? FindPngProblem(bytes, kMaxCompressedPixels) : FindJpegProblem(bytes, kMaxCompressedPixels);
   if (!problem.empty() || (png && (bytes.size() < 8 || bytes[1] != 'P' || bytes[2] != 'N' || bytes[3] != 'G'))) {
     out.error = what + ": " + (problem.empty() ? "not a PNG" : problem);
     return out;
@@ -151,7 +160,8 @@ DecodedImage DecodeCompressedImage(const sensor_msgs::msg::CompressedImage& msg,
     out.error = what + ": cannot be decoded";
     return out;
   }
-  const std::string pixels = std::to_string(decoded.channels()) + " channel(s) of " + std::to_string(decoded.elemSize1() * 8) + " bits";
+  const std::string pixels =
+      std::to_string(decoded.channels()) + " channel(s) of " + std::to_string(decoded.elemSize1() * 8) + " bits";
   switch (role) {
     case ImageRole::kColour:
       if (decoded.depth() != CV_8U || (decoded.channels() != 3 && decoded.channels() != 1)) break;

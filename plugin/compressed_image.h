@@ -26,8 +26,9 @@ std::optional<ImageCompression> ParseImageCompression(const std::string& name);
 // The images' compressed form: colour as `compression` says (PNG or JPEG at quality 90), depth and mask as
 // PNG whatever it says (JPEG would blur depth edges and mix instance ids). Throws std::invalid_argument for
 // kNone or a mask with ids above 65535 (PNG holds 16 bits: send such masks uncompressed).
-sensor_msgs::msg::CompressedImage EncodeCompressedImage(const cv::Mat& image, ImageRole role, ImageCompression compression,
-                                                        int64_t t_ns, const std::string& frame_id);
+sensor_msgs::msg::CompressedImage EncodeCompressedImage(const cv::Mat& image, ImageRole role,
+                                                        ImageCompression compression, int64_t t_ns,
+                                                        const std::string& frame_id);
 
 // The same types as DecodeImage: colour CV_8UC3 BGR or CV_8UC1, depth CV_32FC1 metres (0: none), mask CV_16UC1.
 // Accepts the formats "png", "jpeg", "<enc>; png compressed <enc>", "<enc>; jpeg compressed <enc>" and, for

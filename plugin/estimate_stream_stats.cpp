@@ -20,7 +20,8 @@ double EstimateStreamStats::add(const ReceivedEstimate& e) {
   ++received_;
   ++per_writer_[e.writer];
   if (last_receipt_ns_ != 0)
-    longest_silence_ms_ = std::max(longest_silence_ms_, static_cast<double>(e.received_unix_ns - last_receipt_ns_) * 1e-6);
+    longest_silence_ms_ =
+        std::max(longest_silence_ms_, static_cast<double>(e.received_unix_ns - last_receipt_ns_) * 1e-6);
   last_receipt_ns_ = e.received_unix_ns;
 
   if (recent_.count(e.stamp_ns)) {

@@ -28,9 +28,9 @@ class EstimateStreamStats {
 
   uint64_t received() const { return received_; }
   uint64_t distinctStamps() const { return received_ - repeated_; }
-  uint64_t repeated() const { return repeated_; }        // a stamp already received (within the last 4096)
-  uint64_t wentBack() const { return went_back_; }       // a new stamp older than the newest one
-  uint64_t missingFrames() const { return missing_; }    // frames at the rate between consecutive new stamps
+  uint64_t repeated() const { return repeated_; }      // a stamp already received (within the last 4096)
+  uint64_t wentBack() const { return went_back_; }     // a new stamp older than the newest one
+  uint64_t missingFrames() const { return missing_; }  // frames at the rate between consecutive new stamps
   double longestSilenceMs() const { return longest_silence_ms_; }
   const std::map<std::string, uint64_t>& perWriter() const { return per_writer_; }
   const LatencyHistogram& captureLatency() const { return latency_; }

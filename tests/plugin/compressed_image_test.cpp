@@ -26,8 +26,8 @@ TEST(CompressedImage, PngColourDepthAndMaskRoundTrip) {
   cv::Mat depth(48, 64, CV_32FC1, cv::Scalar(12.3456f));
   depth.at<float>(1, 1) = std::nanf("");
   depth.at<float>(2, 2) = 70.0f;  // beyond 16 bits of millimetres
-  const auto d = DecodeCompressedImage(EncodeCompressedImage(depth, ImageRole::kDepth, ImageCompression::kJpeg, 1, "camera"),
-                                       ImageRole::kDepth);
+  const auto d = DecodeCompressedImage(
+      EncodeCompressedImage(depth, ImageRole::kDepth, ImageCompression::kJpeg, 1, "camera"), ImageRole::kDepth);
   ASSERT_EQ(d.error, "");
   EXPECT_EQ(d.image.type(), CV_32FC1);
   EXPECT_NEAR(d.image.at<float>(0, 0), 12.3456f, 0.0005f);  // millimetres
@@ -36,8 +36,8 @@ TEST(CompressedImage, PngColourDepthAndMaskRoundTrip) {
 
   cv::Mat ids(48, 64, CV_16UC1, cv::Scalar(0));
   ids(cv::Rect(10, 10, 20, 20)).setTo(4242);
-  const auto m = DecodeCompressedImage(EncodeCompressedImage(ids, ImageRole::kMask, ImageCompression::kJpeg, 1, "camera"),
-                                       ImageRole::kMask);
+  const auto m = DecodeCompressedImage(
+      EncodeCompressedImage(ids, ImageRole::kMask, ImageCompression::kJpeg, 1, "camera"), ImageRole::kMask);
   ASSERT_EQ(m.error, "");
   EXPECT_EQ(cv::norm(m.image, ids, cv::NORM_INF), 0.0);  // masks are PNG whatever the colour's compression
 }
@@ -48,7 +48,8 @@ TEST(CompressedImage, JpegColourIsCloseAndSmaller) {
   cv::Mat noise(120, 160, CV_8UC3);
   cv::randu(noise, 0, 6);
   for (int v = 0; v < colour.rows; ++v)
-    for (int u = 0; u < colour.cols; ++u) colour.at<cv::Vec3b>(v, u) = cv::Vec3b(60 + u / 2, 80 + v / 2, 120) + noise.at<cv::Vec3b>(v, u);
+    for (int u = 0; u < colour.cols; ++u)
+      colour.at<cv::Vec3b>(v, u) = cv::Vec3b(60 + u / 2, 80 + v / 2, 120) + noise.at<cv::Vec3b>(v, u);
   const auto jpeg = EncodeCompressedImage(colour, ImageRole::kColour, ImageCompression::kJpeg, 1, "camera");
   const auto png = EncodeCompressedImage(colour, ImageRole::kColour, ImageCompression::kPng, 1, "camera");
   EXPECT_EQ(jpeg.format(), "bgr8; jpeg compressed bgr8");
@@ -106,7 +107,8 @@ TEST(CompressedImage, BadSamplesAreRefusedWithAMessageNamingThem) {
 TEST(CompressedImage, MaskIdsAbove65535AreRefusedOnTheSendingSide) {
   cv::Mat ids(4, 6, CV_32SC1, cv::Scalar(0));
   ids.at<int32_t>(1, 1) = 70000;
-  EXPECT_THROW(EncodeCompressedImage(ids, ImageRole::kMask, ImageCompression::kPng, 1, "camera"), std::invalid_argument);
+  EXPECT_THROW(EncodeCompressedImage(ids, ImageRole::kMask, ImageCompression::kPng, 1, "camera"),
+               std::invalid_argument);
   EXPECT_EQ(ParseImageCompression("jpeg"), ImageCompression::kJpeg);
   EXPECT_EQ(ParseImageCompression("gif"), std::nullopt);
 }
