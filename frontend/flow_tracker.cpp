@@ -79,9 +79,23 @@ cv::Point2f SampleFlow(const cv::Mat& flow, const cv::Point2f& p) {
   return {f[0], f[1]};
 }
 
+// What calcOpticalFlowPyrLK reads of an image: its pyramid where one was built, else the image.
+cv::_InputArray LucasKanadeInput(const GreyPyramid& image) {
+  return image.levels.empty() ? cv::_InputArray(image.gray) : cv::_InputArray(image.levels);
+}
+
 }  // namespace
 
-FlowResult FlowTracker::LucasKanadeBothWays(const cv::Mat& prev_gray, const cv::Mat& curr_gray,
+GreyPyramid FlowTracker::pyramid(const cv::Mat& gray) const {
+  if (gray.type() != CV_8UC1) throw std::invalid_argument("flow needs 8-bit grey images");
+  GreyPyramid out{gray, {}};
+  if (params_.method == FlowMethod::kLucasKanade)
+    cv::buildOpticalFlowPyramid(gray, out.levels, cv::Size(params_.lk_window_px, params_.lk_window_px),
+                                params_.lk_pyramid_levels, true);
+  return out;
+}
+
+FlowResult FlowTracker::LucasKanadeBothWays(const GreyPyramid& prev, const GreyPyramid& curr,
                                              const std::vector<cv::Point2f>& prev_points,
                                              const std::vector<cv::Point2f>& predicted, int levels) const {
   if (!predicted.empty() && predicted.size() != prev_points.size())
@@ -95,41 +109,50 @@ FlowResult FlowTracker::LucasKanadeBothWays(const cv::Mat& prev_gray, const cv::
   const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
   std::vector<uint8_t> status_fwd, status_bwd;
   std::vector<float> err;
-  cv::calcOpticalFlowPyrLK(prev_gray, curr_gray, prev_points, result.points, status_fwd, err, window, levels, stop,
+  cv::calcOpticalFlowPyrLK(LucasKanadeInput(prev), LucasKanadeInput(curr), prev_points, result.points, status_fwd, err,
+                           window, levels, stop,
                            predicted.empty() ? 0 : cv::OPTFLOW_USE_INITIAL_FLOW);
   // The backward pass starts where the forward pass ended, moved back by the predicted motion (if any):
   // started at the origin it would return there even from a wrong match on an ambiguous texture.
   std::vector<cv::Point2f> back = result.points;
   if (!predicted.empty())
     for (size_t i = 0; i < back.size(); ++i) back[i] -= predicted[i] - prev_points[i];
-  cv::calcOpticalFlowPyrLK(curr_gray, prev_gray, result.points, back, status_bwd, err, window, levels, stop,
-                           cv::OPTFLOW_USE_INITIAL_FLOW);
+  cv::calcOpticalFlowPyrLK(LucasKanadeInput(curr), LucasKanadeInput(prev), result.points, back, status_bwd, err, window,
+                           levels, stop, cv::OPTFLOW_USE_INITIAL_FLOW);
   for (size_t i = 0; i < prev_points.size(); ++i) {
     result.fb_error_px[i] = static_cast<float>(cv::norm(back[i] - prev_points[i]));
-    result.ok[i] = status_fwd[i] && status_bwd[i] && Inside(result.points[i], prev_gray.size()) &&
+    result.ok[i] = status_fwd[i] && status_bwd[i] && Inside(result.points[i], prev.gray.size()) &&
                    result.fb_error_px[i] <= params_.fb_threshold_px;
   }
   return result;
 }
 
-FlowResult FlowTracker::trackNearPrediction(const cv::Mat& prev_gray, const cv::Mat& curr_gray,
+FlowResult FlowTracker::trackNearPrediction(const GreyPyramid& prev, const GreyPyramid& curr,
                                             const std::vector<cv::Point2f>& prev_points,
                                             const std::vector<cv::Point2f>& predicted) const {
   if (params_.method != FlowMethod::kLucasKanade) throw std::invalid_argument("flow: a search near a prediction is Lucas-Kanade's");
-  RequireGreyPair(prev_gray, curr_gray);
+  RequireGreyPair(prev.gray, curr.gray);
   if (predicted.size() != prev_points.size())
     throw std::invalid_argument("flow: one predicted position per point is needed");
-  return LucasKanadeBothWays(prev_gray, curr_gray, prev_points, predicted, std::min(kNearPredictionLevels, params_.lk_pyramid_levels));
+  return LucasKanadeBothWays(prev, curr, prev_points, predicted, std::min(kNearPredictionLevels, params_.lk_pyramid_levels));
 }
 
 FlowResult FlowTracker::track(const cv::Mat& prev_gray, const cv::Mat& curr_gray,
                               const std::vector<cv::Point2f>& prev_points, const cv::Mat& precomputed_flow,
                               const std::vector<cv::Point2f>& predicted) {
-  RequireGreyPair(prev_gray, curr_gray);
+  return track(GreyPyramid{prev_gray, {}}, GreyPyramid{curr_gray, {}}, prev_points, precomputed_flow, predicted);
+}
+
+FlowResult FlowTracker::track(const GreyPyramid& prev, const GreyPyramid& curr,
+                              const std::vector<cv::Point2f>& prev_points, const cv::Mat& precomputed_flow,
+                              const std::vector<cv::Point2f>& predicted) {
+  RequireGreyPair(prev.gray, curr.gray);
   dense_forward_.release();
-  if (params_.method == FlowMethod::kOrb) return trackByDescriptors(prev_gray, curr_gray, prev_points);
+  if (params_.method == FlowMethod::kOrb) return trackByDescriptors(prev.gray, curr.gray, prev_points);
   if (params_.method == FlowMethod::kLucasKanade)
-    return LucasKanadeBothWays(prev_gray, curr_gray, prev_points, predicted, params_.lk_pyramid_levels);
+    return LucasKanadeBothWays(prev, curr, prev_points, predicted, params_.lk_pyramid_levels);
+  const cv::Mat& prev_gray = prev.gray;
+  const cv::Mat& curr_gray = curr.gray;
 
   const cv::Size size = curr_gray.size();
   FlowResult result;

@@ -30,6 +30,15 @@ struct FlowParams {
   void validate() const;
 };
 
+// A grey image and, for Lucas-Kanade, its pyramid (levels and their derivatives, bordered as
+// calcOpticalFlowPyrLK wants them), built once per frame by FlowTracker::pyramid() and shared by every
+// search from or to that frame: each Lucas-Kanade call on bare images builds both images' pyramids and
+// the first one's derivatives again (a front-end frame made six such calls).
+struct GreyPyramid {
+  cv::Mat gray;                 // CV_8UC1
+  std::vector<cv::Mat> levels;  // empty: a search builds what it needs from `gray`
+};
+
 struct FlowResult {
   std::vector<cv::Point2f> points;  // positions in the current image
   std::vector<uint8_t> ok;          // 1: tracked, inside the image and forward-backward consistent
@@ -43,18 +52,24 @@ class FlowTracker {
   FlowTracker(const FlowTracker&) = delete;
   FlowTracker& operator=(const FlowTracker&) = delete;
 
+  // `gray` (CV_8UC1) with the pyramid this tracker's Lucas-Kanade searches use (none for other methods).
+  GreyPyramid pyramid(const cv::Mat& gray) const;
+
   // prev_gray, curr_gray: CV_8UC1 of one size. precomputed_flow (CV_32FC2, prev -> curr) is used only by
   // the precomputed method, which throws std::invalid_argument without it. `predicted` (one per point, or
   // empty) starts Lucas-Kanade where a motion model expects each point: on a fast-moving, repetitive
   // texture the search from the old position can lock onto the wrong period.
   FlowResult track(const cv::Mat& prev_gray, const cv::Mat& curr_gray, const std::vector<cv::Point2f>& prev_points,
                    const cv::Mat& precomputed_flow = cv::Mat(), const std::vector<cv::Point2f>& predicted = {});
+  // The same between images whose pyramids were built by this tracker's pyramid().
+  FlowResult track(const GreyPyramid& prev, const GreyPyramid& curr, const std::vector<cv::Point2f>& prev_points,
+                   const cv::Mat& precomputed_flow = cv::Mat(), const std::vector<cv::Point2f>& predicted = {});
 
   // Lucas-Kanade only (else std::invalid_argument), started at `predicted` (one per point) with two
   // pyramid levels, both ways. For points whose motion model is trusted but which the full pyramid lost:
   // near the image border or an occluding edge, its coarse levels see mostly what is not the point's
   // neighbourhood (a car leaving the view at 100 px a frame).
-  FlowResult trackNearPrediction(const cv::Mat& prev_gray, const cv::Mat& curr_gray,
+  FlowResult trackNearPrediction(const GreyPyramid& prev, const GreyPyramid& curr,
                                  const std::vector<cv::Point2f>& prev_points,
                                  const std::vector<cv::Point2f>& predicted) const;
 
@@ -68,7 +83,7 @@ class FlowTracker {
   std::unique_ptr<Dis> dis_;
   struct Orb;
   std::unique_ptr<Orb> orb_;
-  FlowResult LucasKanadeBothWays(const cv::Mat& prev_gray, const cv::Mat& curr_gray,
+  FlowResult LucasKanadeBothWays(const GreyPyramid& prev, const GreyPyramid& curr,
                                  const std::vector<cv::Point2f>& prev_points, const std::vector<cv::Point2f>& predicted,
                                  int levels) const;
   FlowResult trackByDescriptors(const cv::Mat& prev_gray, const cv::Mat& curr_gray,

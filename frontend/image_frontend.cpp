@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "frontend/mask_box_prediction.h"
+#include "frontend/mask_edges.h"
 #include "frontend/warped_patch_search.h"
 
 namespace dslam {
@@ -48,18 +49,6 @@ int LabelAt(const cv::Mat& labels, const cv::Point2f& px) {
   const int u = static_cast<int>(std::lround(px.x)), v = static_cast<int>(std::lround(px.y));
   if (u < 0 || v < 0 || u >= labels.cols || v >= labels.rows) return 0;
   return labels.at<int32_t>(v, u);
-}
-
-// Non-zero within `border_px` of a boundary between two different labels.
-cv::Mat NearMaskEdge(const cv::Mat& labels, int border_px) {
-  if (border_px <= 0) return cv::Mat(labels.size(), CV_8U, cv::Scalar(0));
-  cv::Mat labels_float, edges;
-  labels.convertTo(labels_float, CV_32F);
-  cv::morphologyEx(labels_float, edges, cv::MORPH_GRADIENT, cv::Mat());
-  cv::Mat near_edge = edges > 0;
-  if (border_px > 1)
-    cv::dilate(near_edge, near_edge, cv::getStructuringElement(cv::MORPH_RECT, {2 * border_px - 1, 2 * border_px - 1}));
-  return near_edge;
 }
 
 double Median(std::vector<float> values) {
@@ -115,7 +104,8 @@ struct ImageFrontend::Snapshot {
   std::map<int, cv::Rect> prev_label_boxes;
   std::optional<SE3> last_camera_motion;
   std::map<int, ObjectMotionMemory> last_object_motion;
-  cv::Mat prev_gray, prev_depth, prev_flow_to_next;  // headers: process() replaces them, never writes into them
+  GreyPyramid prev_grey;  // headers, as the two below: process() replaces them, never writes into them
+  cv::Mat prev_depth, prev_flow_to_next;
   std::optional<int> prev_frame_index;
   int64_t prev_t_ns = 0;
   int64_t next_track_id = 1;
@@ -124,7 +114,7 @@ struct ImageFrontend::Snapshot {
 };
 
 ImageFrontend::Snapshot ImageFrontend::save() const {
-  return {tracks_,     prev_label_boxes_,  last_camera_motion_, last_object_motion_, prev_gray_,    prev_depth_,
+  return {tracks_,     prev_label_boxes_,  last_camera_motion_, last_object_motion_, prev_grey_,    prev_depth_,
           prev_flow_to_next_, prev_frame_index_, prev_t_ns_, next_track_id_, associator_, stats_};
 }
 
@@ -133,7 +123,7 @@ void ImageFrontend::restore(Snapshot&& s) {
   prev_label_boxes_ = std::move(s.prev_label_boxes);
   last_camera_motion_ = s.last_camera_motion;
   last_object_motion_ = std::move(s.last_object_motion);
-  prev_gray_ = s.prev_gray;
+  prev_grey_ = std::move(s.prev_grey);
   prev_depth_ = s.prev_depth;
   prev_flow_to_next_ = s.prev_flow_to_next;
   prev_frame_index_ = s.prev_frame_index;
@@ -210,6 +200,8 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
   // Pixels near a mask edge mix the depths of object and background, and a point tracked there may be
   // sliding along an occluding contour: no points are kept or created there.
   const cv::Mat near_edge = NearMaskEdge(labels, params_.mask_border_px);
+  // This frame's pyramid, built once: every search from the previous frame and, next frame, from this one reads it.
+  const GreyPyramid grey = flow_.pyramid(gray);
   stats.phase_ms.prepare_ms = phase.lap();
 
   // 1. Flow.
@@ -226,7 +218,7 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
         frame.odometry ? std::optional<SE3>(frame.odometry->T_prev_curr) : last_camera_motion_;
     PixelPrediction prediction = predictPixels(camera_motion, label_boxes);
     stats.phase_ms.prepare_ms += phase.lap();
-    FlowResult flow = flow_.track(prev_gray_, gray, prev_px, prev_flow_to_next_, prediction.px);
+    FlowResult flow = flow_.track(prev_grey_, grey, prev_px, prev_flow_to_next_, prediction.px);
     stats.phase_ms.flow_ms = phase.lap();
     // The searches for object tracks below (Lucas-Kanade's) start from where the camera's and the
     // object's motions put them. The static tracks just found give the camera's motion more exactly than
@@ -238,10 +230,10 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
         prediction = predictPixels(camera_motion, label_boxes);
       }
     }
-    resolveStillHypothesis(gray, prev_px, prediction, &flow, &stats.ambiguous);
-    retryNearPrediction(gray, prev_px, prediction, &flow);
+    resolveStillHypothesis(grey, prev_px, prediction, &flow, &stats.ambiguous);
+    retryNearPrediction(grey, prev_px, prediction, &flow);
     stats.phase_ms.refine_ms = phase.lap();
-    reacquireWarped(gray, camera_motion, &flow, &stats);
+    reacquireWarped(grey, camera_motion, &flow, &stats);
     stats.phase_ms.warped_ms = phase.lap();
     std::vector<float> fb;
     for (size_t i = 0; i < tracks_.size(); ++i) {
@@ -426,7 +418,7 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
   last_camera_motion_ = T_prev_curr;
   for (auto it = last_object_motion_.begin(); it != last_object_motion_.end();)
     it = frame.frame_index - it->second.frame_index > kObjectMotionMemoryFrames ? last_object_motion_.erase(it) : ++it;
-  prev_gray_ = gray;
+  prev_grey_ = grey;
   prev_depth_ = depth;
   prev_flow_to_next_ = frame.flow_to_next;
   prev_frame_index_ = frame.frame_index;
@@ -541,7 +533,7 @@ const ImageFrontend::ObjectMotionMemory* ImageFrontend::confirmedMotion(int obje
                                                                                                : nullptr;
 }
 
-void ImageFrontend::retryNearPrediction(const cv::Mat& gray, const std::vector<cv::Point2f>& prev_px,
+void ImageFrontend::retryNearPrediction(const GreyPyramid& grey, const std::vector<cv::Point2f>& prev_px,
                                         const PixelPrediction& prediction, FlowResult* flow) const {
   if (params_.flow.method != FlowMethod::kLucasKanade || prediction.px.empty()) return;
   // Only where the full pyramid's coarsest window reaches past the image border: elsewhere a track the
@@ -562,7 +554,7 @@ void ImageFrontend::retryNearPrediction(const cv::Mat& gray, const std::vector<c
     index.push_back(i);
   }
   if (index.empty()) return;
-  const FlowResult near = flow_.trackNearPrediction(prev_gray_, gray, from, start);
+  const FlowResult near = flow_.trackNearPrediction(prev_grey_, grey, from, start);
   for (size_t j = 0; j < index.size(); ++j) {
     if (!near.ok[j]) continue;
     flow->ok[index[j]] = 1;
@@ -571,7 +563,7 @@ void ImageFrontend::retryNearPrediction(const cv::Mat& gray, const std::vector<c
   }
 }
 
-void ImageFrontend::reacquireWarped(const cv::Mat& gray, const std::optional<SE3>& camera_motion, FlowResult* flow,
+void ImageFrontend::reacquireWarped(const GreyPyramid& grey, const std::optional<SE3>& camera_motion, FlowResult* flow,
                                     FrontendFrameStats* stats) const {
   if (params_.flow.method != FlowMethod::kLucasKanade || params_.warped_search.radius_px == 0 || !camera_motion ||
       prev_depth_.empty())
@@ -619,7 +611,7 @@ void ImageFrontend::reacquireWarped(const cv::Mat& gray, const std::optional<SE3
     deformations.push_back(deformation);
   }
   if (requests.empty()) return;
-  const std::vector<WarpedPatchMatch> found = SearchWarpedPatches(prev_gray_, gray, requests, params_.warped_search);
+  const std::vector<WarpedPatchMatch> found = SearchWarpedPatches(prev_grey_.gray, grey.gray, requests, params_.warped_search);
   for (size_t j = 0; j < found.size(); ++j) {
     if (!found[j].ok) {
       if (deformations[j] >= params_.warped_search.max_flow_deformation) flow->ok[index[j]] = 0;
@@ -650,7 +642,7 @@ bool ImageFrontend::leavesView(const SE3& object_motion, const SE3& T_curr_prev,
   return !(p.z() > 0.1 && inView(uv.x(), uv.y()));
 }
 
-void ImageFrontend::resolveStillHypothesis(const cv::Mat& gray, const std::vector<cv::Point2f>& prev_px,
+void ImageFrontend::resolveStillHypothesis(const GreyPyramid& grey, const std::vector<cv::Point2f>& prev_px,
                                            const PixelPrediction& prediction, FlowResult* flow, int* ambiguous) {
   // A still start is confirmed when the flow stays within this of it (a still object's prediction is
   // exact up to the depth noise); two matches closer than this are the same.
@@ -682,7 +674,7 @@ void ImageFrontend::resolveStillHypothesis(const cv::Mat& gray, const std::vecto
     index.push_back(prediction.from_box[j]);
   }
   if (index.empty()) return;
-  const FlowResult still = flow_.track(prev_gray_, gray, starts, cv::Mat(), still_px);
+  const FlowResult still = flow_.track(prev_grey_, grey, starts, cv::Mat(), still_px);
   for (size_t j = 0; j < index.size(); ++j) {
     if (!still.ok[j] || cv::norm(still.points[j] - still_px[j]) > kSamePx) continue;  // not still
     const size_t i = index[j];

@@ -136,7 +136,7 @@ class ImageFrontend {
   // object stood still, and a match that stays there is taken; when both starts give consistent but
   // different matches, or standing still would have taken the point out of view, the track ends.
   // Ended tracks are counted in `ambiguous`.
-  void resolveStillHypothesis(const cv::Mat& gray, const std::vector<cv::Point2f>& prev_px,
+  void resolveStillHypothesis(const GreyPyramid& grey, const std::vector<cv::Point2f>& prev_px,
                               const PixelPrediction& prediction, FlowResult* flow, int* ambiguous);
   PixelPrediction predictPixels(const std::optional<SE3>& camera_motion,
                                 const std::map<int, cv::Rect>& label_boxes) const;
@@ -154,7 +154,7 @@ class ImageFrontend {
   // coarsest pyramid window from the image border, are searched for again from their predicted pixel
   // with two pyramid levels only (FlowTracker::trackNearPrediction): a car leaving the view at 100 px a
   // frame keeps the tracks of its part still inside.
-  void retryNearPrediction(const cv::Mat& gray, const std::vector<cv::Point2f>& prev_px,
+  void retryNearPrediction(const GreyPyramid& grey, const std::vector<cv::Point2f>& prev_px,
                            const PixelPrediction& prediction, FlowResult* flow) const;
   // Tracks of an object with a confirmed motion, where that motion deforms their patch (a car passing
   // close by shows a side that stretches and shears from frame to frame), are searched for around their
@@ -162,7 +162,7 @@ class ImageFrontend {
   // replaces the flow's, or takes the place of a track the flow lost; where the patch deforms beyond
   // what the flow can follow (WarpedSearchParams::max_flow_deformation) and the search finds nothing,
   // the flow's match is dropped too.
-  void reacquireWarped(const cv::Mat& gray, const std::optional<SE3>& camera_motion, FlowResult* flow,
+  void reacquireWarped(const GreyPyramid& grey, const std::optional<SE3>& camera_motion, FlowResult* flow,
                        FrontendFrameStats* stats) const;
 
   FrameMeasurement processUncommitted(const ImageFrame& frame);
@@ -182,7 +182,8 @@ class ImageFrontend {
   std::map<int, cv::Rect> prev_label_boxes_;  // mask label -> bounding box in the previous frame
   std::optional<SE3> last_camera_motion_;       // T_prev_curr of the last transition
   std::map<int, ObjectMotionMemory> last_object_motion_;  // kept a few frames across occlusions
-  cv::Mat prev_gray_, prev_depth_, prev_flow_to_next_;
+  GreyPyramid prev_grey_;  // the previous frame's grey image and its pyramid
+  cv::Mat prev_depth_, prev_flow_to_next_;
   std::optional<int> prev_frame_index_;
   int64_t prev_t_ns_ = 0;  // the previous frame's stamp: a longer step than the frame rate's is a gap
   int64_t next_track_id_ = 1;

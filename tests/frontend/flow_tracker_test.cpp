@@ -138,7 +138,8 @@ TEST(FlowTracker, NearAPredictionItKeepsAPatchLeavingTheViewThatTheFullPyramidLo
   FlowParams params;  // 15 px window, 3 levels
   FlowTracker tracker(params);
   const FlowResult full = tracker.track(prev, curr, points, cv::Mat(), predicted);
-  const FlowResult near = tracker.trackNearPrediction(prev, curr, points, predicted);
+  const GreyPyramid prev_pyramid = tracker.pyramid(prev), curr_pyramid = tracker.pyramid(curr);
+  const FlowResult near = tracker.trackNearPrediction(prev_pyramid, curr_pyramid, points, predicted);
   int full_good = 0, near_good = 0;
   for (size_t i = 0; i < points.size(); ++i) {
     full_good += full.ok[i] && cv::norm(full.points[i] - predicted[i]) < 0.1;
@@ -150,14 +151,48 @@ TEST(FlowTracker, NearAPredictionItKeepsAPatchLeavingTheViewThatTheFullPyramidLo
   // A prediction 4 px off is taken up.
   std::vector<cv::Point2f> off = predicted;
   for (auto& p : off) p += cv::Point2f(4.0f, -3.0f);
-  const FlowResult near_off = tracker.trackNearPrediction(prev, curr, points, off);
+  const FlowResult near_off = tracker.trackNearPrediction(prev_pyramid, curr_pyramid, points, off);
   int off_good = 0;
   for (size_t i = 0; i < points.size(); ++i) off_good += near_off.ok[i] && cv::norm(near_off.points[i] - predicted[i]) < 0.1;
   EXPECT_GT(off_good, 0.9 * points.size());
-  EXPECT_THROW(tracker.trackNearPrediction(prev, curr, points, {}), std::invalid_argument);
+  EXPECT_THROW(tracker.trackNearPrediction(prev_pyramid, curr_pyramid, points, {}), std::invalid_argument);
   FlowParams dis;
   dis.method = FlowMethod::kDis;
-  EXPECT_THROW(FlowTracker(dis).trackNearPrediction(prev, curr, points, predicted), std::invalid_argument);
+  FlowTracker dis_tracker(dis);
+  EXPECT_TRUE(dis_tracker.pyramid(prev).levels.empty());  // only Lucas-Kanade reads a pyramid
+  EXPECT_THROW(dis_tracker.trackNearPrediction(dis_tracker.pyramid(prev), dis_tracker.pyramid(curr), points, predicted),
+               std::invalid_argument);
+}
+
+// A pyramid built once per frame and shared is only a saving: every search gives bit for bit what it gives
+// on the bare images (which build their pyramids inside OpenCV), both ways, with and without predictions,
+// at full depth and near a prediction.
+TEST(FlowTracker, ASharedPyramidTracksExactlyAsTheBareImages) {
+  const cv::Mat prev = test::RandomTexture(400, 240, 21);
+  const cv::Mat curr = test::Shifted(prev, 6.3, -2.2);
+  const auto points = Grid(prev.cols, prev.rows, 13, 4);  // some near the border, some that leave the view
+  std::vector<cv::Point2f> predicted;
+  for (const cv::Point2f& p : points) predicted.push_back(p + cv::Point2f(5.0f, -1.0f));
+  FlowTracker tracker{FlowParams{}};
+  const GreyPyramid prev_pyramid = tracker.pyramid(prev), curr_pyramid = tracker.pyramid(curr);
+  ASSERT_EQ(prev_pyramid.levels.size(), 2u * (FlowParams{}.lk_pyramid_levels + 1));  // levels and derivatives
+  const GreyPyramid bare_prev{prev, {}}, bare_curr{curr, {}};
+  const auto expect_same = [&](const FlowResult& a, const FlowResult& b, const char* what) {
+    ASSERT_EQ(a.points.size(), b.points.size()) << what;
+    int tracked = 0;
+    for (size_t i = 0; i < a.points.size(); ++i) {
+      EXPECT_EQ(a.ok[i], b.ok[i]) << what << " point " << i;
+      EXPECT_EQ(a.points[i], b.points[i]) << what << " point " << i;
+      EXPECT_EQ(a.fb_error_px[i], b.fb_error_px[i]) << what << " point " << i;
+      tracked += a.ok[i];
+    }
+    EXPECT_GT(tracked, static_cast<int>(points.size() / 2)) << what;
+  };
+  expect_same(tracker.track(prev_pyramid, curr_pyramid, points), tracker.track(prev, curr, points), "full");
+  expect_same(tracker.track(prev_pyramid, curr_pyramid, points, cv::Mat(), predicted),
+              tracker.track(bare_prev, bare_curr, points, cv::Mat(), predicted), "full, predicted");
+  expect_same(tracker.trackNearPrediction(prev_pyramid, curr_pyramid, points, predicted),
+              tracker.trackNearPrediction(bare_prev, bare_curr, points, predicted), "near the prediction");
 }
 
 TEST(FlowTracker, ExplainsWhatIsMissing) {
