@@ -21,6 +21,7 @@
 
 #include "app/render_scene_command.h"
 #include "bench/percentile.h"
+#include "data/frame_memory.h"
 #include "data/image_dataset.h"
 #include "plugin/estimate_listener.h"
 #include "plugin/sensor_publisher.h"
@@ -98,6 +99,7 @@ RateResult RunAtRate(const dslam::ImageDataset& data, int frames, double rate_hz
 }  // namespace
 
 int main(int argc, char** argv) {
+  dslam::KeepFrameBuffersInHeap();  // as dslam runs (data/frame_memory.h)
   std::string transport = "shm";
   std::vector<std::string> args;
   for (int i = 1; i < argc; ++i) {

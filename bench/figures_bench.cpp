@@ -6,11 +6,13 @@
 #include <iostream>
 
 #include "app/figures_command.h"
+#include "data/frame_memory.h"
 #include "output/run_report.h"
 #include "pipeline/run_sequence.h"
 #include "simulation/scenarios.h"
 
 int main(int argc, char** argv) {
+  dslam::KeepFrameBuffersInHeap();  // as dslam runs (data/frame_memory.h)
   const int frames = argc > 1 ? std::atoi(argv[1]) : 300;
   const std::string dir = argc > 2 ? argv[2] : (std::filesystem::temp_directory_path() / "dslam_bench_figures").string();
   if (frames < 2) {

@@ -19,9 +19,10 @@
 #include <opencv2/core.hpp>
 #include <opencv2/video/tracking.hpp>
 
-#include "bench/rendered_city.h"
-#include "bench/percentile.h"
 #include "backend/methods.h"
+#include "bench/percentile.h"
+#include "bench/rendered_city.h"
+#include "data/frame_memory.h"
 #include "data/image_dataset.h"
 #include "frontend/image_frontend.h"
 #include "pipeline/config_yaml.h"
@@ -35,6 +36,7 @@ using dslam::bench::Percentile;
 }  // namespace
 
 int main(int argc, char** argv) {
+  dslam::KeepFrameBuffersInHeap();  // as dslam runs (data/frame_memory.h)
   std::string dir = argc > 1 ? argv[1] : "";
   const int max_frames = argc > 2 ? std::atoi(argv[2]) : 60;
   if (max_frames < 3) {

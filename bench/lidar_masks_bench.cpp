@@ -13,11 +13,12 @@
 #include <stdexcept>
 #include <vector>
 
+#include "bench/percentile.h"
+#include "data/frame_memory.h"
 #include "data/image_dataset.h"
 #include "data/mask_degrader.h"
 #include "pipeline/config_yaml.h"
 #include "pipeline/mask_source.h"
-#include "bench/percentile.h"
 
 namespace {
 
@@ -39,6 +40,7 @@ cv::Mat ObjectsWithin(const cv::Mat& ids, const cv::Mat& depth_m, double max_dis
 }  // namespace
 
 int main(int argc, char** argv) {
+  dslam::KeepFrameBuffersInHeap();  // as dslam runs (data/frame_memory.h)
   if (argc < 2) {
     std::fprintf(stderr, "usage: bench_lidar_masks DATASET [FRAMES] [CONFIG.yaml]\n");
     return 2;

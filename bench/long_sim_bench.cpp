@@ -13,10 +13,12 @@
 
 #include "app/sim_command.h"
 #include "bench/rss.h"
+#include "data/frame_memory.h"
 #include "pipeline/streamed_run.h"
 #include "simulation/scenarios.h"
 
 int main(int argc, char** argv) {
+  dslam::KeepFrameBuffersInHeap();  // as dslam runs (data/frame_memory.h)
   const int frames = argc > 1 ? std::atoi(argv[1]) : 20000;
   const std::string scenario = argc > 2 ? argv[2] : "city";
   if (frames < 2) {

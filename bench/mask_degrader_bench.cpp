@@ -9,11 +9,13 @@
 #include <map>
 #include <string>
 
+#include "data/frame_memory.h"
 #include "data/image_dataset.h"
 #include "data/mask_degrader.h"
 #include "pipeline/run_config.h"
 
 int main(int argc, char** argv) {
+  dslam::KeepFrameBuffersInHeap();  // as dslam runs (data/frame_memory.h)
   if (argc < 2) {
     std::fprintf(stderr, "usage: bench_mask_degrader DATASET [FRAMES] [PARAM=VALUE ...]\n");
     return 2;

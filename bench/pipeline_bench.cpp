@@ -16,10 +16,11 @@
 #include <iostream>
 #include <vector>
 
-#include "bench/rendered_city.h"
 #include "app/run_command.h"
 #include "bench/percentile.h"
+#include "bench/rendered_city.h"
 #include "bench/rss.h"
+#include "data/frame_memory.h"
 #include "data/image_dataset.h"
 #include "pipeline/image_run.h"
 #include "pipeline/staged_pipeline.h"
@@ -75,6 +76,7 @@ void LongRun(const dslam::RunConfig& config, const dslam::ImageDataset& data,
 }  // namespace
 
 int main(int argc, char** argv) {
+  dslam::KeepFrameBuffersInHeap();  // as dslam runs (data/frame_memory.h)
   std::string dir = argc > 1 ? argv[1] : "";
   const int max_frames = argc > 2 ? std::atoi(argv[2]) : 60;
   const int repeats = argc > 3 ? std::atoi(argv[3]) : 3;

@@ -15,11 +15,12 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "bench/percentile.h"
 #include "data/dense_maps.h"
+#include "data/frame_memory.h"
 #include "data/image_dataset.h"
 #include "pipeline/config_yaml.h"
 #include "pipeline/mask_source.h"
-#include "bench/percentile.h"
 
 namespace {
 
@@ -50,6 +51,7 @@ int BenchFile(const std::string& path, int repeats) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  dslam::KeepFrameBuffersInHeap();  // as dslam runs (data/frame_memory.h)
   if (argc < 2) {
     std::fprintf(stderr,
                  "usage: bench_reading DATASET [FRAMES] [CONFIG.yaml] [REPEATS]\n"

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "bench/percentile.h"
+#include "data/frame_memory.h"
 #include "data/image_dataset.h"
 
 namespace {
@@ -26,6 +27,7 @@ struct Setting {
 }  // namespace
 
 int main(int argc, char** argv) {
+  dslam::KeepFrameBuffersInHeap();  // as dslam runs (data/frame_memory.h)
   if (argc < 2) {
     std::fprintf(stderr, "usage: bench_stereo_depth DATASET [FRAMES]\n");
     return 2;

@@ -12,6 +12,7 @@
 
 #include "backend/estimator.h"
 #include "bench/percentile.h"
+#include "data/frame_memory.h"
 #include "frontend/dynamic_object_classifier.h"
 #include "pipeline/config_yaml.h"
 #include "pipeline/run_config.h"
@@ -26,6 +27,7 @@ double Mean(const std::vector<double>& v, int from, int to) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  dslam::KeepFrameBuffersInHeap();  // as dslam runs (data/frame_memory.h)
   const int frames = argc > 1 ? std::atoi(argv[1]) : 1100;
   const int window = argc > 2 ? std::atoi(argv[2]) : 10;
   if (frames < 200 || window < 2) {
