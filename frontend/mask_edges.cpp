@@ -8,8 +8,7 @@ namespace dslam {
 
 cv::Mat NearMaskEdge(const cv::Mat& labels, int border_px) {
   if (labels.type() != CV_32SC1) throw std::invalid_argument("NearMaskEdge needs CV_32SC1 labels");
-  cv::Mat near_edge(labels.size(), CV_8UC1, cv::Scalar(0));
-  if (border_px <= 0 || labels.empty()) return near_edge;
+  if (border_px <= 0 || labels.empty()) return cv::Mat(labels.size(), CV_8UC1, cv::Scalar(0));
   // A window holds two labels exactly when two 4-neighbours inside it differ (a window is 4-connected).
   // So: mark each pair of neighbours that differ at its left (or upper) pixel, then spread each mark over
   // the windows that hold its whole pair. Two 8-bit dilations instead of a morphological gradient over
@@ -27,6 +26,7 @@ cv::Mat NearMaskEdge(const cv::Mat& labels, int border_px) {
   // A pair marked at q (q and q + 1 across) lies in the window of p when p.x - b <= q.x <= p.x + b - 1
   // and |p.y - q.y| <= b: a 2b-wide, (2b + 1)-high kernel anchored at (b, b); the vertical pairs alike.
   const int b = border_px;
+  cv::Mat near_edge;
   cv::dilate(right_differs, near_edge, cv::Mat::ones(2 * b + 1, 2 * b, CV_8UC1), cv::Point(b, b));
   cv::dilate(below_differs, below_differs, cv::Mat::ones(2 * b, 2 * b + 1, CV_8UC1), cv::Point(b, b));
   near_edge |= below_differs;
