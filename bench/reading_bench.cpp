@@ -13,11 +13,11 @@
 #include <vector>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "bench/percentile.h"
 #include "data/dense_maps.h"
 #include "data/frame_memory.h"
+#include "data/image_codec.h"
 #include "data/image_dataset.h"
 #include "pipeline/config_yaml.h"
 #include "pipeline/mask_source.h"
@@ -38,7 +38,7 @@ int BenchFile(const std::string& path, int repeats) {
     if (EndsWith(path, ".flo"))
       dslam::ReadFlo(path);
     else if (EndsWith(path, ".png"))
-      cv::imread(path, cv::IMREAD_UNCHANGED);
+      dslam::ReadPngFile(path);
     else
       dslam::ReadSemanticTxt(path);
     ms.push_back(MsSince(t0));

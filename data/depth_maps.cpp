@@ -9,7 +9,8 @@
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/ximgproc/disparity_filter.hpp>
+
+#include "data/stereo_wls.h"
 
 namespace dslam {
 namespace {
@@ -24,6 +25,15 @@ cv::Mat ToFloatSingleChannel(const cv::Mat& image, const char* what) {
   cv::Mat out;
   image.convertTo(out, CV_32F);
   return out;
+}
+
+// The matcher of the right image against the left: the same parameters over the mirrored range of
+// disparities (negative: a right pixel's match lies to its right).
+cv::Ptr<cv::StereoSGBM> RightMatcher(const cv::StereoSGBM& left) {
+  return cv::StereoSGBM::create(-left.getMinDisparity() - left.getNumDisparities() + 1, left.getNumDisparities(),
+                                left.getBlockSize(), left.getP1(), left.getP2(), left.getDisp12MaxDiff(),
+                                left.getPreFilterCap(), left.getUniquenessRatio(), left.getSpeckleWindowSize(),
+                                left.getSpeckleRange(), left.getMode());
 }
 
 cv::Mat Gray8(const cv::Mat& image, const char* what) {
@@ -96,17 +106,14 @@ cv::Mat DepthFromStereo(const cv::Mat& left, const cv::Mat& right, double fx, do
   if (!lr_check && params.filter == "none") return DepthFromDisparity(disparity16, 16.0, fx * baseline_m);
 
   // The right image's disparities (negative: its matches lie to the right), by the same matcher mirrored.
-  cv::Ptr<cv::StereoMatcher> right_matcher = cv::ximgproc::createRightMatcher(left_matcher);
+  const cv::Ptr<cv::StereoSGBM> right_matcher = RightMatcher(*left_matcher);
   cv::Mat right16;
   right_matcher->compute(r, l, right16);
   const int right_invalid16 = (right_matcher->getMinDisparity() - 1) * 16;
   if (params.filter == "wls") {
-    auto wls = cv::ximgproc::createDisparityWLSFilter(left_matcher);
-    wls->setLambda(params.wls_lambda);
-    wls->setSigmaColor(params.wls_sigma_color);
-    cv::Mat filtered;
-    wls->filter(disparity16, l, filtered, right16);
-    const cv::Mat confidence = wls->getConfidenceMap();  // CV_32F, 0..255; 0 where the left-right check failed
+    cv::Mat filtered, confidence;  // confidence: CV_32F, 0..255; 0 where the left-right check failed
+    Ximgproc().wls_filter(left_matcher, disparity16, l, right16, params.wls_lambda, params.wls_sigma_color, &filtered,
+                          &confidence);
     filtered.setTo(-1, confidence < params.wls_min_confidence);
     disparity16 = filtered;
   }

@@ -3,16 +3,15 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <future>
 #include <stdexcept>
 #include <tuple>
 #include <utility>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "data/dense_maps.h"
+#include "data/image_codec.h"
 #include "data/odometry_file.h"
 #include "data/png_check.h"
 #include "data/velodyne.h"
@@ -74,16 +73,15 @@ std::vector<std::string> Matching(const std::vector<std::string>& images, const 
 
 std::string Size(const cv::Mat& m) { return std::to_string(m.cols) + "x" + std::to_string(m.rows); }
 
-cv::Mat ReadImage(const std::string& path, int flags, int64_t max_pixels) {
+cv::Mat ReadImage(const std::string& path, ImageDecode mode, int64_t max_pixels) {
   // The file is read once: its structure checked from the bytes, then the same bytes decoded.
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  std::vector<unsigned char> bytes(in ? static_cast<size_t>(std::max<std::streamoff>(0, in.tellg())) : 0);
-  in.seekg(0);
-  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()))) bytes.clear();
+  const std::vector<uint8_t> bytes = ReadFileBytes(path);
+  if (bytes.empty()) throw std::runtime_error("cannot read image " + path + " (missing or empty)");
   if (const std::string problem = FindPngProblem(bytes, max_pixels); !problem.empty())
     throw std::runtime_error("cannot read image " + path + ": " + problem);
-  cv::Mat image = bytes.empty() ? cv::Mat() : cv::imdecode(bytes, flags);
-  if (image.empty()) throw std::runtime_error("cannot read image " + path + " (missing, truncated or not an image)");
+  std::string error;
+  cv::Mat image = DecodePng(bytes, mode, &error);
+  if (image.empty()) throw std::runtime_error("cannot read image " + path + ": " + error);
   return image;
 }
 
@@ -221,7 +219,7 @@ ImageDataset::ImageDataset(const std::string& dir, const ImageDatasetOptions& op
   // Camera: the left colour camera (P2) when it is given, else P0; the size from the first image.
   const auto& P = calib->P[2](0, 0) > 0.0 ? calib->P[2] : calib->P[0];
   camera_.fx = P(0, 0), camera_.fy = P(1, 1), camera_.cx = P(0, 2), camera_.cy = P(1, 2);
-  const cv::Mat first = ReadImage(images_.front(), cv::IMREAD_UNCHANGED, options_.max_image_pixels);
+  const cv::Mat first = ReadImage(images_.front(), ImageDecode::kUnchanged, options_.max_image_pixels);
   camera_.width = first.cols, camera_.height = first.rows;
   // Focal lengths in normalised units (0.58 for 721 px) parse, and then every depth and motion is wrong: a
   // pinhole camera's field of view across its image is between about 1 and 170 degrees.
@@ -281,14 +279,14 @@ cv::Mat ImageDataset::readDepth(int k, const cv::Mat& left, ImageFrame* frame) c
   switch (depth_kind_) {
     case DepthKind::kPngDepthMm:
     case DepthKind::kPngDisparity: {
-      const cv::Mat raw = ReadImage(depths_[k], cv::IMREAD_UNCHANGED, options_.max_image_pixels);
+      const cv::Mat raw = ReadImage(depths_[k], ImageDecode::kUnchanged, options_.max_image_pixels);
       if (raw.channels() != 1 || raw.depth() != CV_16U)
         throw std::runtime_error(depths_[k] + ": depth PNG must be 16-bit single channel");
       return depth_kind_ == DepthKind::kPngDepthMm ? DepthFromScaledImage(raw, 1000.0)
                                                    : DepthFromDisparity(raw, 256.0, camera_.fx * baseline_m_);
     }
     case DepthKind::kStereo: {
-      const cv::Mat right = ReadImage(rights_[k], cv::IMREAD_COLOR, options_.max_image_pixels);
+      const cv::Mat right = ReadImage(rights_[k], ImageDecode::kColour, options_.max_image_pixels);
       if (right.size() != left.size())
         throw std::runtime_error(rights_[k] + " is " + Size(right) + " but the left image is " + Size(left));
       return DepthFromStereo(left, right, camera_.fx, baseline_m_, options_.stereo);
@@ -307,7 +305,7 @@ cv::Mat ImageDataset::readMask(int k) const {
   switch (mask_kind_) {
     case MaskKind::kNone: return {};
     case MaskKind::kPng16: {
-      cv::Mat mask = ReadImage(masks_[k], cv::IMREAD_UNCHANGED, options_.max_image_pixels);
+      cv::Mat mask = ReadImage(masks_[k], ImageDecode::kUnchanged, options_.max_image_pixels);
       if (mask.channels() != 1 || (mask.depth() != CV_16U && mask.depth() != CV_8U))
         throw std::runtime_error(masks_[k] + ": instance mask PNG must be 8- or 16-bit single channel");
       if (mask.depth() == CV_8U) mask.convertTo(mask, CV_16U);
@@ -346,7 +344,7 @@ ImageFrame ImageDataset::read(int k) const {
     out.second = readMask(k);
     return out;
   });
-  frame.image = ReadImage(images_[k], cv::IMREAD_COLOR, options_.max_image_pixels);
+  frame.image = ReadImage(images_[k], ImageDecode::kColour, options_.max_image_pixels);
   if (frame.image.cols != camera_.width || frame.image.rows != camera_.height)
     throw std::runtime_error(images_[k] + " is " + Size(frame.image) + " but the sequence's images are " +
                              std::to_string(camera_.width) + "x" + std::to_string(camera_.height));

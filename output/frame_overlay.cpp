@@ -5,8 +5,9 @@
 #include <map>
 #include <stdexcept>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "data/image_codec.h"
 
 namespace dslam {
 namespace {
@@ -82,7 +83,7 @@ std::vector<int> OverlayFrames(int frames, int count) {
 
 void WriteOverlayPng(const cv::Mat& image, const std::string& path) {
   const std::string partial = path + ".partial.png";
-  if (!cv::imwrite(partial, image)) throw std::runtime_error("cannot write " + path);
+  WritePngFile(partial, image, 1);
   if (std::rename(partial.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot replace " + path);
 }
 

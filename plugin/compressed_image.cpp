@@ -3,8 +3,7 @@
 #include <cctype>
 #include <stdexcept>
 
-#include <opencv2/imgcodecs.hpp>
-
+#include "data/image_codec.h"
 #include "data/png_check.h"
 
 namespace dslam {
@@ -98,10 +97,11 @@ sensor_msgs::msg::CompressedImage EncodeCompressedImage(const cv::Mat& image, Im
     }
   }
   std::vector<uint8_t> bytes;
-  const std::vector<int> params = jpeg ? std::vector<int>{cv::IMWRITE_JPEG_QUALITY, 90}
-                                       : std::vector<int>{cv::IMWRITE_PNG_COMPRESSION, 1};  // fast; most of the gain
-  if (!cv::imencode(jpeg ? ".jpg" : ".png", pixels, bytes, params))
-    throw std::runtime_error(std::string("cannot compress the ") + ImageRoleName(role));
+  try {
+    bytes = jpeg ? EncodeJpeg(pixels, 90) : EncodePng(pixels, 1);  // PNG level 1: fast, and most of the gain
+  } catch (const std::exception& e) {
+    throw std::runtime_error(std::string("cannot compress the ") + ImageRoleName(role) + ": " + e.what());
+  }
   msg.format(encoding + "; " + (jpeg ? "jpeg" : "png") + " compressed " + encoding);
   msg.data() = std::move(bytes);
   return msg;
@@ -149,15 +149,11 @@ DecodedImage DecodeCompressedImage(const sensor_msgs::msg::CompressedImage& msg,
     out.error = what + ": " + (problem.empty() ? "not a PNG" : problem);
     return out;
   }
-  cv::Mat decoded;
-  try {
-    decoded = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception& e) {
-    out.error = what + ": cannot be decoded (" + e.err + ")";
-    return out;
-  }
+  std::string decode_error;
+  const cv::Mat decoded = png ? DecodePng(bytes, ImageDecode::kUnchanged, &decode_error)
+                              : DecodeJpeg(bytes, ImageDecode::kUnchanged, &decode_error);
   if (decoded.empty()) {
-    out.error = what + ": cannot be decoded";
+    out.error = what + ": cannot be decoded (" + decode_error + ")";
     return out;
   }
   const std::string pixels =

@@ -9,9 +9,9 @@
 #include <map>
 #include <sstream>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "data/image_codec.h"
 #include "support/no_display.h"
 #include "support/rendered_city.h"
 #include "support/temp_paths.h"
@@ -79,7 +79,7 @@ TEST(StudyCommand, WritesEverySettingForEveryMethodTheTrackingComparisonAndBothF
   const std::string page = options.out_dir + "/report.html";
   ASSERT_TRUE(std::filesystem::exists(page));
   for (const char* png : {"study_effects.png", "study_tracking.png"}) {
-    const cv::Mat image = cv::imread(options.out_dir + "/" + png);
+    const cv::Mat image = dslam::ReadPngFile(options.out_dir + "/" + png, dslam::ImageDecode::kColour);
     ASSERT_FALSE(image.empty()) << png;
     EXPECT_EQ(image.cols, 1600) << png;
     cv::Mat grey;

@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "data/image_codec.h"
 #include "data/odometry_file.h"
 #include "support/temp_paths.h"
 
@@ -35,11 +35,11 @@ std::string MakeVdoDataset(const std::string& name) {
   const std::string dir = test::TempDir(name);
   for (const char* sub : {"image_0", "depth", "mask"}) fs::create_directories(dir + "/" + sub);
   for (int k = 0; k < 3; ++k) {
-    cv::imwrite(dir + "/image_0/" + Name(k, "png"), cv::Mat(kH, kW, CV_8UC3, cv::Scalar(10 * k, 20, 30)));
-    cv::imwrite(dir + "/depth/" + Name(k, "png"), cv::Mat(kH, kW, CV_16UC1, cv::Scalar(1000 * (k + 1))));
+    dslam::WritePngFile(dir + "/image_0/" + Name(k, "png"), cv::Mat(kH, kW, CV_8UC3, cv::Scalar(10 * k, 20, 30)));
+    dslam::WritePngFile(dir + "/depth/" + Name(k, "png"), cv::Mat(kH, kW, CV_16UC1, cv::Scalar(1000 * (k + 1))));
     cv::Mat mask(kH, kW, CV_16UC1, cv::Scalar(0));
     mask(cv::Rect(5, 5, 10, 10)).setTo(5);
-    cv::imwrite(dir + "/mask/" + Name(k, "png"), mask);
+    dslam::WritePngFile(dir + "/mask/" + Name(k, "png"), mask);
   }
   WriteCalib(dir + "/calib.txt");
   std::map<int, OdometryMeasurement> odometry;
@@ -90,9 +90,9 @@ TEST(ImageDataset, NamesTheMissingCorruptOrMisfitFile) {
   const ImageDataset data2(dir2, {});
   EXPECT_NE(ErrorOf([&] { data2.read(1); }).find("cannot read image " + dir2 + "/image_0/000001.png"),
             std::string::npos);
-  cv::imwrite(dir2 + "/depth/" + Name(2, "png"), cv::Mat(10, 10, CV_16UC1, cv::Scalar(1)));
+  dslam::WritePngFile(dir2 + "/depth/" + Name(2, "png"), cv::Mat(10, 10, CV_16UC1, cv::Scalar(1)));
   EXPECT_NE(ErrorOf([&] { data2.read(2); }).find("depth is 10x10 but the image is 64x48"), std::string::npos);
-  cv::imwrite(dir2 + "/depth/" + Name(0, "png"), cv::Mat(kH, kW, CV_8UC3, cv::Scalar(1)));
+  dslam::WritePngFile(dir2 + "/depth/" + Name(0, "png"), cv::Mat(kH, kW, CV_8UC3, cv::Scalar(1)));
   EXPECT_NE(ErrorOf([&] { data2.read(0); }).find("depth PNG must be 16-bit"), std::string::npos);
 
   const std::string dir3 = MakeVdoDataset("vdo_odometry");
@@ -183,7 +183,7 @@ TEST(ImageDataset, KittiRawTakesDepthFromTheLidarAndNamesATruncatedScan) {
   fs::create_directories(dir + "/velodyne_points");
   WriteCalib(dir + "/calib.txt");
   for (int k = 0; k < 2; ++k) {
-    cv::imwrite(dir + "/image_02/" + Name(k, "png"), cv::Mat(kH, kW, CV_8UC3, cv::Scalar(90)));
+    dslam::WritePngFile(dir + "/image_02/" + Name(k, "png"), cv::Mat(kH, kW, CV_8UC3, cv::Scalar(90)));
     // One point 8 m ahead of the camera (LiDAR x forward): Tr_velo_to_cam maps (8, 0, 0) to z = 8.
     const float record[4] = {8.0f, 0.0f, 0.0f, 0.3f};
     std::ofstream scan(dir + "/velodyne_points/" + Name(k, "bin"), std::ios::binary);
@@ -232,8 +232,8 @@ TEST(ImageDataset, KittiTrackingLayoutTakesDepthFromTheStereoPairAndMasksFromThe
   cv::Mat left;
   cv::warpAffine(right, left, cv::Matx23d(1, 0, disparity, 0, 1, 0), right.size(), cv::INTER_LINEAR,
                  cv::BORDER_REFLECT);
-  cv::imwrite(dir + "/image_02/0007/000000.png", left);
-  cv::imwrite(dir + "/image_03/0007/000000.png", right);
+  dslam::WritePngFile(dir + "/image_02/0007/000000.png", left);
+  dslam::WritePngFile(dir + "/image_03/0007/000000.png", right);
 
   const ImageDataset data(dir, ImageDatasetOptions{});
   EXPECT_EQ(data.layout(), "kitti-tracking");

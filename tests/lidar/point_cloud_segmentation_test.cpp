@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
+#include "data/runtime_module.h"
 #include "support/synthetic_lidar.h"
 
 namespace dslam {
@@ -20,6 +23,31 @@ int ClusterIn(const LidarSegmentation& seg, const std::vector<Eigen::Vector3f>& 
     if (inside > most) most = inside, best = static_cast<int>(c);
   }
   return best;
+}
+
+// PCL is in a module of its own (lidar/pcl_module.h), mapped when the first scan is segmented; bad
+// parameters are refused before it is loaded. Checked in a process of its own (gtest's "threadsafe" death
+// tests start the test binary afresh): another test may have loaded it already.
+int PclLoadOrder() {
+  if (RuntimeModuleLoaded("dslam_pcl")) return 1;
+  LidarSegmentationParams bad;
+  bad.cluster_tolerance_m = 0.0;
+  try {
+    SegmentLidarObjects({}, bad);
+    return 2;
+  } catch (const std::invalid_argument&) {
+  }
+  if (RuntimeModuleLoaded("dslam_pcl")) return 3;
+  const LidarSegmentation seg =
+      SegmentLidarObjects(test::SyntheticLidar{}.scan({BoxOnGround(-2.0f, 10.0f, 1.8f, 1.5f, 4.2f)}), {});
+  if (seg.objects.size() != 1) return 4;
+  return RuntimeModuleLoaded("dslam_pcl") ? 0 : 5;
+}
+
+TEST(PointCloudSegmentation, PclIsLoadedOnFirstUseOnly) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  // 1, 3: loaded too early; 2: bad parameters accepted; 4: the car not found; 5: not loaded by the segmentation.
+  EXPECT_EXIT(std::exit(PclLoadOrder()), ::testing::ExitedWithCode(0), "");
 }
 
 TEST(PointCloudSegmentation, FindsTheGroundAndEachObjectButNotWallsOrBridges) {

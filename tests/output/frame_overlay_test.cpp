@@ -4,8 +4,8 @@
 
 #include <filesystem>
 
-#include <opencv2/imgcodecs.hpp>
 
+#include "data/image_codec.h"
 #include "support/temp_paths.h"
 
 namespace dslam {
@@ -44,7 +44,7 @@ TEST(FrameOverlay, FramesAreSpreadAwayFromTheEndsAndWrittenWhole) {
   const std::string dir = test::TempDir("overlay");
   const cv::Mat image(20, 30, CV_8UC3, cv::Scalar(1, 2, 3));
   WriteOverlayPng(image, dir + "/frame_000001.png");
-  const cv::Mat back = cv::imread(dir + "/frame_000001.png", cv::IMREAD_COLOR);
+  const cv::Mat back = dslam::ReadPngFile(dir + "/frame_000001.png", dslam::ImageDecode::kColour);
   ASSERT_FALSE(back.empty());
   EXPECT_EQ(cv::norm(back, image, cv::NORM_INF), 0.0);
   for (const auto& e : std::filesystem::directory_iterator(dir))

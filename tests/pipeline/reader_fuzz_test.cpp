@@ -10,9 +10,9 @@
 #include <functional>
 #include <random>
 
-#include <opencv2/imgcodecs.hpp>
 
 #include "data/dense_maps.h"
+#include "data/image_codec.h"
 #include "data/image_dataset.h"
 #include "data/kitti_tracking.h"
 #include "data/odometry_file.h"
@@ -149,9 +149,9 @@ TEST(ReaderFuzz, DamagedImagesOfADataset) {
   for (int k = 0; k < 2; ++k) {
     char name[16];
     std::snprintf(name, sizeof name, "%06d.png", k);
-    cv::imwrite(dir + "/image_0/" + name, cv::Mat(24, 32, CV_8UC3, cv::Scalar(10 * k, 20, 30)));
-    cv::imwrite(dir + "/depth/" + name, cv::Mat(24, 32, CV_16UC1, cv::Scalar(2000)));
-    cv::imwrite(dir + "/mask/" + name, cv::Mat(24, 32, CV_16UC1, cv::Scalar(0)));
+    dslam::WritePngFile(dir + "/image_0/" + name, cv::Mat(24, 32, CV_8UC3, cv::Scalar(10 * k, 20, 30)));
+    dslam::WritePngFile(dir + "/depth/" + name, cv::Mat(24, 32, CV_16UC1, cv::Scalar(2000)));
+    dslam::WritePngFile(dir + "/mask/" + name, cv::Mat(24, 32, CV_16UC1, cv::Scalar(0)));
   }
   std::ofstream(dir + "/calib.txt") << "P0: 20 0 16 0 0 20 12 0 0 0 1 0\nP2: 20 0 16 0 0 20 12 0 0 0 1 0\n"
                                        "R0_rect: 1 0 0 0 1 0 0 0 1\n";

@@ -7,13 +7,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <set>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 #include <sstream>
 
 #include "app/render_scene_command.h"
 #include "data/dense_maps.h"
+#include "data/image_codec.h"
 #include "data/kitti_dataset.h"
 #include "data/kitti_tracking.h"
 #include "support/shared_data.h"
@@ -83,9 +83,9 @@ TEST_F(RenderScene, OutputReadsBackInTheVdoLayout) {
   const InstanceMask mask = ReadSemanticTxt(*dir_ + "/semantic/000003.txt");
   EXPECT_EQ(mask.width, 1242);
   EXPECT_EQ(mask.height, 375);
-  const cv::Mat depth = cv::imread(*dir_ + "/depth/000003.png", cv::IMREAD_UNCHANGED);
+  const cv::Mat depth = dslam::ReadPngFile(*dir_ + "/depth/000003.png");
   ASSERT_EQ(depth.type(), CV_16UC1);
-  const cv::Mat ids = cv::imread(*dir_ + "/mask/000003.png", cv::IMREAD_UNCHANGED);
+  const cv::Mat ids = dslam::ReadPngFile(*dir_ + "/mask/000003.png");
   ASSERT_EQ(ids.type(), CV_16UC1);
   for (int v = 0; v < mask.height; v += 11)
     for (int u = 0; u < mask.width; u += 13) EXPECT_EQ(ids.at<uint16_t>(v, u), mask.at(u, v));
@@ -117,8 +117,10 @@ TEST_F(RenderScene, WrittenGroundTruthReprojectsOntoTheMask) {
 }
 
 TEST_F(RenderScene, EnoughTextureToTrackFeaturesBetweenFrames) {
-  const cv::Mat a = cv::imread(*dir_ + "/image_0/000002.png", cv::IMREAD_GRAYSCALE);
-  const cv::Mat b = cv::imread(*dir_ + "/image_0/000003.png", cv::IMREAD_GRAYSCALE);
+  cv::Mat a;
+  cv::cvtColor(dslam::ReadPngFile(*dir_ + "/image_0/000002.png", dslam::ImageDecode::kColour), a, cv::COLOR_BGR2GRAY);
+  cv::Mat b;
+  cv::cvtColor(dslam::ReadPngFile(*dir_ + "/image_0/000003.png", dslam::ImageDecode::kColour), b, cv::COLOR_BGR2GRAY);
   ASSERT_FALSE(a.empty());
   std::vector<cv::Point2f> corners, forward, backward;
   cv::goodFeaturesToTrack(a, corners, 3000, 0.01, 7);
