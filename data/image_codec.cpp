@@ -1,9 +1,10 @@
 #include "data/image_codec.h"
 
-#include <spng.h>
+#include <png.h>
 #include <turbojpeg.h>
 
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <memory>
 #include <stdexcept>
@@ -12,11 +13,6 @@
 
 namespace dslam {
 namespace {
-
-struct SpngDeleter {
-  void operator()(spng_ctx* ctx) const { spng_ctx_free(ctx); }
-};
-using Spng = std::unique_ptr<spng_ctx, SpngDeleter>;
 
 struct TurboDeleter {
   void operator()(void* handle) const { tjDestroy(handle); }
@@ -28,64 +24,95 @@ cv::Mat Fail(std::string* error, const std::string& what) {
   return {};
 }
 
-// RGB(A) as stored to OpenCV's BGR(A), in place.
-void ToBgr(cv::Mat& image) {
-  if (image.channels() == 3) cv::cvtColor(image, image, cv::COLOR_RGB2BGR);
-  if (image.channels() == 4) cv::cvtColor(image, image, cv::COLOR_RGBA2BGRA);
+// libpng reports errors through longjmp to the setjmp of the function that called it; the message is kept
+// here first. Only plain data lives across those setjmp points.
+struct PngErrors {
+  char message[256] = "";
+};
+
+void PngError(png_structp png, png_const_charp message) {
+  auto* errors = static_cast<PngErrors*>(png_get_error_ptr(png));
+  std::snprintf(errors->message, sizeof(errors->message), "%s", message);
+  png_longjmp(png, 1);
 }
+
+void PngWarning(png_structp, png_const_charp) {}  // not printed: the caller reports what matters
+
+struct PngSource {
+  const uint8_t* data;
+  size_t size;
+  size_t at;
+};
+
+void ReadFromMemory(png_structp png, png_bytep out, png_size_t length) {
+  auto* source = static_cast<PngSource*>(png_get_io_ptr(png));
+  if (length > source->size - source->at) png_error(png, "PNG cut off");
+  std::memcpy(out, source->data + source->at, length);
+  source->at += length;
+}
+
+void WriteToVector(png_structp png, png_bytep data, png_size_t length) {
+  auto* out = static_cast<std::vector<uint8_t>*>(png_get_io_ptr(png));
+  out->insert(out->end(), data, data + length);
+}
+
+void FlushNothing(png_structp) {}
+
+// Decodes into *image (allocated here, from the header); false with errors->message set on failure.
+bool DecodePngInto(const std::vector<uint8_t>& bytes, ImageDecode mode, cv::Mat* image, PngErrors* errors) {
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, errors, PngError, PngWarning);
+  if (!png) return false;
+  png_infop info = png_create_info_struct(png);
+  std::vector<png_bytep> rows;  // sized before any call that can fail after it
+  if (!info || setjmp(png_jmpbuf(png))) {
+    png_destroy_read_struct(&png, info ? &info : nullptr, nullptr);
+    return false;
+  }
+  PngSource source{bytes.data(), bytes.size(), 0};
+  png_set_read_fn(png, &source, ReadFromMemory);
+  png_read_info(png, info);
+  const int bit_depth = png_get_bit_depth(png, info), colour_type = png_get_color_type(png, info);
+  const bool trns = png_get_valid(png, info, PNG_INFO_tRNS) != 0;
+  // OpenCV's layouts (the transforms its own decoder asks libpng for): BGR(A), 16-bit samples in host order.
+  if (colour_type == PNG_COLOR_TYPE_GRAY && bit_depth < 8) png_set_expand_gray_1_2_4_to_8(png);
+  if (colour_type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
+  if (mode == ImageDecode::kColour) {
+    if (bit_depth == 16) png_set_strip_16(png);
+    if (colour_type == PNG_COLOR_TYPE_GRAY || colour_type == PNG_COLOR_TYPE_GRAY_ALPHA) png_set_gray_to_rgb(png);
+    if (colour_type & PNG_COLOR_MASK_ALPHA) png_set_strip_alpha(png);
+  } else {
+    if (bit_depth == 16) png_set_swap(png);
+    if (colour_type == PNG_COLOR_TYPE_PALETTE && trns) png_set_tRNS_to_alpha(png);
+    if (colour_type == PNG_COLOR_TYPE_GRAY_ALPHA) png_set_gray_to_rgb(png);
+  }
+  png_set_bgr(png);
+  png_read_update_info(png, info);
+  const int channels = png_get_channels(png, info), depth = png_get_bit_depth(png, info);
+  const int rows_count = static_cast<int>(png_get_image_height(png, info));
+  const int cols = static_cast<int>(png_get_image_width(png, info));
+  *image = cv::Mat(rows_count, cols, CV_MAKETYPE(depth == 16 ? CV_16U : CV_8U, channels));
+  if (png_get_rowbytes(png, info) != image->step[0]) png_error(png, "unexpected row size after the transforms");
+  rows.resize(static_cast<size_t>(rows_count));
+  for (int v = 0; v < rows_count; ++v) rows[static_cast<size_t>(v)] = image->ptr<png_byte>(v);
+  png_read_image(png, rows.data());
+  png_read_end(png, nullptr);
+  png_destroy_read_struct(&png, &info, nullptr);
+  return true;
+}
+
 
 }  // namespace
 
 cv::Mat DecodePng(const std::vector<uint8_t>& bytes, ImageDecode mode, std::string* error) {
-  Spng ctx(spng_ctx_new(0));
-  if (!ctx) return Fail(error, "out of memory");
-  // Chunks other than the image (text, ICC profiles) are bounded: the file is untrusted.
-  spng_set_chunk_limits(ctx.get(), 64u << 20, 64u << 20);
-  if (int e = spng_set_png_buffer(ctx.get(), bytes.data(), bytes.size())) return Fail(error, spng_strerror(e));
-  spng_ihdr ihdr{};
-  if (int e = spng_get_ihdr(ctx.get(), &ihdr)) return Fail(error, std::string("not a PNG (") + spng_strerror(e) + ")");
-  const int rows = static_cast<int>(ihdr.height), cols = static_cast<int>(ihdr.width);
-  const bool sixteen = ihdr.bit_depth == 16;
-  int format = 0, type = 0, flags = 0;
-  if (mode == ImageDecode::kColour) {
-    format = SPNG_FMT_RGB8, type = CV_8UC3;
-  } else {
-    spng_trns trns{};
-    const bool has_trns = spng_get_trns(ctx.get(), &trns) == 0;
-    switch (ihdr.color_type) {
-      case SPNG_COLOR_TYPE_GRAYSCALE:
-        // Host-order samples at the stored depth; 1-, 2- and 4-bit grey widened (and scaled) to 8 bits.
-        format = sixteen ? SPNG_FMT_PNG : ihdr.bit_depth == 8 ? SPNG_FMT_PNG : SPNG_FMT_G8;
-        type = sixteen ? CV_16UC1 : CV_8UC1;
-        break;
-      case SPNG_COLOR_TYPE_TRUECOLOR:
-        format = SPNG_FMT_PNG, type = sixteen ? CV_16UC3 : CV_8UC3;
-        break;
-      case SPNG_COLOR_TYPE_TRUECOLOR_ALPHA:
-        format = SPNG_FMT_PNG, type = sixteen ? CV_16UC4 : CV_8UC4;
-        break;
-      case SPNG_COLOR_TYPE_GRAYSCALE_ALPHA:
-        format = sixteen ? SPNG_FMT_RGBA16 : SPNG_FMT_RGBA8, type = sixteen ? CV_16UC4 : CV_8UC4;
-        break;
-      case SPNG_COLOR_TYPE_INDEXED:
-        format = has_trns ? SPNG_FMT_RGBA8 : SPNG_FMT_RGB8, type = has_trns ? CV_8UC4 : CV_8UC3;
-        flags = has_trns ? SPNG_DECODE_TRNS : 0;
-        break;
-      default: return Fail(error, "unknown PNG colour type " + std::to_string(ihdr.color_type));
-    }
-  }
-  size_t size = 0;
-  if (int e = spng_decoded_image_size(ctx.get(), format, &size)) return Fail(error, spng_strerror(e));
-  cv::Mat image(rows, cols, type);
-  if (size != image.total() * image.elemSize())
-    return Fail(error, "decoded size " + std::to_string(size) + " bytes does not match " + std::to_string(cols) + "x" +
-                           std::to_string(rows));
-  if (int e = spng_decode_image(ctx.get(), image.data, size, format, flags))
-    return Fail(error, std::string("cannot be decoded (") + spng_strerror(e) + ")");
-  ToBgr(image);
+  static constexpr uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (bytes.size() < sizeof(kSignature) || std::memcmp(bytes.data(), kSignature, sizeof(kSignature)) != 0)
+    return Fail(error, "not a PNG (no PNG signature)");
+  cv::Mat image;
+  PngErrors errors;
+  if (!DecodePngInto(bytes, mode, &image, &errors))
+    return Fail(error, std::string("cannot be decoded (") + (*errors.message ? errors.message : "out of memory") + ")");
   return image;
 }
-
 cv::Mat DecodeJpeg(const std::vector<uint8_t>& bytes, ImageDecode mode, std::string* error) {
   Turbo handle(tjInitDecompress());
   if (!handle) return Fail(error, "cannot start the JPEG decoder");
@@ -107,32 +134,31 @@ std::vector<uint8_t> EncodePng(const cv::Mat& image, int compression_level) {
   if (image.empty() || (depth != CV_8U && depth != CV_16U) || (channels != 1 && channels != 3 && channels != 4))
     throw std::invalid_argument("EncodePng: needs an 8- or 16-bit image of 1, 3 or 4 channels");
   if (compression_level < 0 || compression_level > 9) throw std::invalid_argument("EncodePng: level must be 0-9");
-  cv::Mat rgb;
-  if (channels == 3) cv::cvtColor(image, rgb, cv::COLOR_BGR2RGB);
-  else if (channels == 4) cv::cvtColor(image, rgb, cv::COLOR_BGRA2RGBA);
-  else rgb = image.isContinuous() ? image : image.clone();
-  Spng ctx(spng_ctx_new(SPNG_CTX_ENCODER));
-  if (!ctx) throw std::runtime_error("EncodePng: out of memory");
-  spng_ihdr ihdr{};
-  ihdr.width = static_cast<uint32_t>(image.cols);
-  ihdr.height = static_cast<uint32_t>(image.rows);
-  ihdr.bit_depth = depth == CV_16U ? 16 : 8;
-  ihdr.color_type = channels == 1   ? SPNG_COLOR_TYPE_GRAYSCALE
-                    : channels == 3 ? SPNG_COLOR_TYPE_TRUECOLOR
-                                    : SPNG_COLOR_TYPE_TRUECOLOR_ALPHA;
-  spng_set_ihdr(ctx.get(), &ihdr);
-  spng_set_option(ctx.get(), SPNG_ENCODE_TO_BUFFER, 1);
-  spng_set_option(ctx.get(), SPNG_IMG_COMPRESSION_LEVEL, compression_level);
-  if (int e = spng_encode_image(ctx.get(), rgb.data, rgb.total() * rgb.elemSize(), SPNG_FMT_PNG, SPNG_ENCODE_FINALIZE))
-    throw std::runtime_error(std::string("EncodePng: ") + spng_strerror(e));
-  size_t length = 0;
-  int e = 0;
-  std::unique_ptr<void, decltype(&free)> buffer(spng_get_png_buffer(ctx.get(), &length, &e), &free);
-  if (!buffer) throw std::runtime_error(std::string("EncodePng: ") + spng_strerror(e));
-  const auto* begin = static_cast<const uint8_t*>(buffer.get());
-  return std::vector<uint8_t>(begin, begin + length);
+  std::vector<uint8_t> out;
+  out.reserve(image.total() * image.elemSize() / 2 + 1024);
+  std::vector<png_bytep> rows(static_cast<size_t>(image.rows));
+  for (int v = 0; v < image.rows; ++v) rows[static_cast<size_t>(v)] = const_cast<png_bytep>(image.ptr<png_byte>(v));
+  PngErrors errors;
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &errors, PngError, PngWarning);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!png || !info || setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, info ? &info : nullptr);
+    throw std::runtime_error(std::string("EncodePng: ") + (*errors.message ? errors.message : "out of memory"));
+  }
+  png_set_write_fn(png, &out, WriteToVector, FlushNothing);
+  png_set_compression_level(png, compression_level);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(image.cols), static_cast<png_uint_32>(image.rows),
+               depth == CV_16U ? 16 : 8,
+               channels == 1 ? PNG_COLOR_TYPE_GRAY : channels == 3 ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_RGB_ALPHA,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  png_set_bgr(png);
+  if (depth == CV_16U) png_set_swap(png);
+  png_write_image(png, rows.data());
+  png_write_end(png, info);
+  png_destroy_write_struct(&png, &info);
+  return out;
 }
-
 std::vector<uint8_t> EncodeJpeg(const cv::Mat& image, int quality) {
   if (image.empty() || image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3))
     throw std::invalid_argument("EncodeJpeg: needs an 8-bit image of 1 or 3 channels");

@@ -1,7 +1,8 @@
 #pragma once
-// PNG and JPEG to and from OpenCV images, through libspng and libjpeg-turbo. OpenCV's own codecs
+// PNG and JPEG to and from OpenCV images, through libpng and libjpeg-turbo. OpenCV's own codecs
 // (imgcodecs) load GDAL and ~110 other libraries into every process that links them, ~0.1 s of start-up
-// each time; these two libraries are all dslam's datasets, results and compressed DDS images need.
+// each time; these two libraries (the ones imgcodecs itself uses for these formats) are all dslam's
+// datasets, results and compressed DDS images need.
 // Pixel layouts are OpenCV's: colour is BGR(A), 16-bit samples in host order.
 
 #include <cstdint>
