@@ -26,6 +26,27 @@ function(dslam_layer folder)
   set_property(GLOBAL APPEND PROPERTY DSLAM_LAYER_TABLE "${folder}: ${layers}")
 endfunction()
 
+# A part of a layer built as a shared library of its own and loaded on first use (data/runtime_module.h):
+# lib<name>.so beside dslam, where the loader looks first, every symbol hidden but its exported entry, built
+# before the layer that calls it.
+#
+# dslam_runtime_module(<name> CALLER <layer folder> SOURCES <files> LIBS <libraries>
+#                      [INCLUDES <system include dirs>] [DEFINITIONS <definitions>])
+function(dslam_runtime_module name)
+  cmake_parse_arguments(ARG "" "CALLER" "SOURCES;LIBS;INCLUDES;DEFINITIONS" ${ARGN})
+  add_library(${name} MODULE ${ARG_SOURCES})
+  set_target_properties(${name} PROPERTIES
+    LIBRARY_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}
+    CXX_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON)
+  target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR})
+  if(ARG_INCLUDES)
+    target_include_directories(${name} SYSTEM PRIVATE ${ARG_INCLUDES})
+  endif()
+  target_compile_definitions(${name} PRIVATE ${ARG_DEFINITIONS})
+  target_link_libraries(${name} PRIVATE ${ARG_LIBS})
+  add_dependencies(dslam_${ARG_CALLER} ${name})
+endfunction()
+
 # Writes the table of layers (one line per folder: "folder: lower layers it links") for the layer check.
 function(dslam_write_layer_table path)
   get_property(table GLOBAL PROPERTY DSLAM_LAYER_TABLE)
