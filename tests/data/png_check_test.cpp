@@ -1,7 +1,6 @@
 #include "data/png_check.h"
 
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -14,11 +13,6 @@ namespace dslam {
 namespace {
 namespace fs = std::filesystem;
 
-std::vector<unsigned char> Bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 TEST(PngCheck, AWholePngPassesACutOneIsNamedAndOtherFilesGoToTheDecoder) {
   const std::string dir = test::TempPath("png_check");
   fs::create_directories(dir);
@@ -26,7 +20,7 @@ TEST(PngCheck, AWholePngPassesACutOneIsNamedAndOtherFilesGoToTheDecoder) {
   cv::randu(image, 0, 255);
   const std::string whole = dir + "/whole.png";
   ASSERT_NO_THROW(dslam::WritePngFile(whole, image));
-  const std::vector<unsigned char> bytes = Bytes(whole);
+  const std::vector<unsigned char> bytes = ReadFileBytes(whole);
   EXPECT_EQ(FindPngProblem(bytes, 1'000'000), "");
 
   for (size_t keep : {bytes.size() - 1, bytes.size() / 2, size_t{20}, size_t{9}}) {
@@ -54,7 +48,7 @@ TEST(PngCheck, ADamagedChunkFailsItsChecksum) {
   cv::Mat image(120, 200, CV_8UC3);
   cv::randu(image, 0, 255);
   ASSERT_NO_THROW(dslam::WritePngFile(dir + "/whole.png", image));
-  const std::vector<unsigned char> bytes = Bytes(dir + "/whole.png");
+  const std::vector<unsigned char> bytes = ReadFileBytes(dir + "/whole.png");
   const std::string data(bytes.begin(), bytes.end());
   const size_t idat = data.find("IDAT");
   ASSERT_NE(idat, std::string::npos);
