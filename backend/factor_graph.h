@@ -144,6 +144,19 @@ struct LinearPointFactor {
   }
 };
 
+// What the cameras that left the smoother's window say about the first camera still in it: the Gaussian
+// their elimination by a Schur complement left (backend/marginalisation.h), as whitened rows about the
+// point it was linearised at, which it keeps while it lives (first-estimate Jacobian):
+// r = r0 + R (camera (-) camera_lin). Rows beyond the information's rank are zero.
+struct CameraPrior {
+  int frame = -1;
+  PoseBlock camera_lin{};
+  Mat6 R = Mat6::Zero();
+  Vec6 r0 = Vec6::Zero();
+
+  Vec6 residual(const double* camera) const { return r0 + R * PoseBlockMinus(camera, camera_lin.data()); }
+};
+
 struct FrameFactors {
   std::optional<OdometryEntry> odometry;  // links frame k-1 and k
   std::vector<PointMeasurementEntry> measurements;
@@ -198,6 +211,7 @@ struct FactorGraph {
   int next_motion_id = 0;
   SE3 T_world_camera0_prior;
   Vec6 prior_sigma = Vec6::Constant(1e-4);
+  std::optional<CameraPrior> camera_prior;  // on the window's first camera, once cameras have left it
 
   int numFrames() const { return first_stored_frame + static_cast<int>(frames.size()); }
   double* camera(int k) { return camera_poses[k - first_stored_frame].data(); }

@@ -5,13 +5,19 @@
 
 #include <algorithm>
 #include <deque>
+#include <memory>
 #include <optional>
+#include <stdexcept>
 #include <unordered_map>
 #include <unordered_set>
 
 #include "backend/factors/analytic_jacobians.h"
 #include "backend/factors/huber_loss.h"
+#include "backend/factors/odometry_factor.h"
 #include "backend/factors/pose_block.h"
+#include "backend/factors/pose_factor_linearisation.h"
+#include "backend/factors/pose_prior_factor.h"
+#include "backend/linear_elimination.h"
 #include "geometry/velocity.h"
 
 namespace dslam {
@@ -266,25 +272,99 @@ void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, i
   }
 }
 
+namespace {
+
+// The rows of a landmark's prior and held measurements at its estimate (their Gauss-Newton information
+// and gradient in square-root form).
+JacobianFactor PointPriorRows(int key, const PointVariable& var, const HuberLoss& huber) {
+  GaussianMarginal normal;
+  normal.keys = {key};
+  normal.dims = {3};
+  Mat3 info;
+  Vec3 gradient;
+  var.priorNormalEquations(var.position(), huber, &info, &gradient);
+  normal.information = info;
+  normal.gradient = gradient;
+  return FactorOf(normal);
+}
+
+}  // namespace
+
 void MarginaliseCameraFrame(const BackendParams& params, int m, FactorGraph* graph, EstimateSink* sink) {
   const HuberLoss huber{params.noise.huber_delta};
   const double* cam = graph->camera(m);
   const Mat3 R = BlockRotationMatrix(cam);
   const Vec3 t = BlockTranslation(cam);
   FrameFactors& fm = graph->frame(m);
+  // With camera_prior_by_schur, camera m is eliminated by a Schur complement with the landmarks only it still measures, over its
+  // prior, the first-camera prior, its odometry to m+1 and those measurements: what is left is the
+  // prior on camera m+1, which replaces the odometry into it.
+  constexpr int kLeaving = -1, kNext = -2;  // landmark keys are their variable ids (>= 0)
+  const bool chained =
+      params.camera_prior_by_schur && m + 1 < graph->numFrames() && graph->frame(m + 1).odometry.has_value();
+  std::vector<JacobianFactor> factors;
+  std::vector<int> leaving = {kLeaving};
+  if (chained) {
+    if (graph->camera_prior && graph->camera_prior->frame == m)
+      factors.push_back({{kLeaving}, {Eigen::MatrixXd(graph->camera_prior->R)}, graph->camera_prior->residual(cam)});
+    Mat6 J_prev, J_next;
+    if (m == 0) {
+      const std::unique_ptr<ceres::CostFunction> prior(PosePriorFactor::Create(graph->T_world_camera0_prior, graph->prior_sigma));
+      Mat6* J[1] = {&J_prev};
+      const Vec6 r = LinearisePoseFactor(*prior, &cam, J);
+      factors.push_back({{kLeaving}, {Eigen::MatrixXd(J_prev)}, r});
+    }
+    const OdometryEntry& odometry = *graph->frame(m + 1).odometry;
+    const std::unique_ptr<ceres::CostFunction> factor(OdometryFactor::Create(odometry.T_prev_curr, odometry.sigma));
+    const double* blocks[2] = {cam, graph->camera(m + 1)};
+    Mat6* J[2] = {&J_prev, &J_next};
+    const Vec6 r = LinearisePoseFactor(*factor, blocks, J);
+    factors.push_back({{kLeaving, kNext}, {Eigen::MatrixXd(J_prev), Eigen::MatrixXd(J_next)}, r});
+  }
   std::unordered_set<int> ended;
   for (const auto& e : fm.measurements) {
     PointVariable& var = graph->points.at(e.point_var);
     sink->pointFinal({m, var.track_id, var.object_id, var.position()});
     if (var.last_frame <= m) {
-      ended.insert(e.point_var);
+      // A landmark seen last from here leaves with the camera: its history reaches camera m+1 through it.
+      const bool with_camera = chained && var.object_id < 0;
+      if (ended.insert(e.point_var).second && with_camera) {
+        leaving.push_back(e.point_var);
+        if (var.hasPrior()) factors.push_back(PointPriorRows(e.point_var, var, huber));
+      }
+      if (with_camera) {
+        Mat36 J_cam;
+        Mat3 J_point;
+        const Vec3 r = PointMeasurementResidual(R, t, var.position(), e.z_camera, e.sigma_m.cwiseInverse(), &J_cam, &J_point);
+        const double w = huber.sqrtWeight(r.squaredNorm());
+        factors.push_back({{kLeaving, e.point_var}, {Eigen::MatrixXd(w * J_cam), Eigen::MatrixXd(w * J_point)}, w * r});
+      }
       continue;
     }
-    // Held as a robust factor for landmark_history_frames frames, then folded into the prior. With the
-    // camera held the measurement is linear in the point, r = W (R^T (l - t) - z) = W R^T (l - (t + R z)),
-    // so the fold is exact but for the Huber weight, frozen when it folds.
+    // A landmark still measured in the window keeps this measurement with the camera held at its final
+    // estimate (the sparsification: the prior would otherwise couple every such landmark with camera
+    // m+1 and each other). It is held as a robust factor for landmark_history_frames frames, then folded
+    // into the landmark's prior. With the camera held the measurement is linear in the point,
+    // r = W (R^T (l - t) - z) = W R^T (l - (t + R z)), so the fold is exact but for the Huber weight,
+    // frozen when it folds.
     var.held.push_back({e.sigma_m.cwiseInverse().asDiagonal() * R.transpose(), t + R * e.z_camera, m});
     while (static_cast<int>(var.held.size()) > params.landmark_history_frames) var.foldOldestHeld(var.position(), huber);
+  }
+  graph->camera_prior.reset();
+  if (chained) {
+    try {
+      const SquareRootRows rows = SquareRootOf(MarginaliseBySchur(factors, leaving));
+      CameraPrior prior;
+      prior.frame = m + 1;
+      std::copy(graph->camera(m + 1), graph->camera(m + 1) + kPoseBlockSize, prior.camera_lin.begin());
+      prior.R.topRows(rows.R.rows()) = rows.R;
+      prior.r0.head(rows.r.size()) = rows.r;
+      graph->camera_prior = prior;
+      graph->frame(m + 1).odometry.reset();
+    } catch (const std::runtime_error&) {
+      // Not determined (cannot happen with an odometry factor of finite sigma): camera m stays held as
+      // the next window's anchor through its odometry factor, as a smoother without the prior would.
+    }
   }
   for (int v : ended) graph->points.erase(v);
   // Linear factors on this camera (left by object points of frame m) keep it at its final value.

@@ -17,6 +17,7 @@
 #include "backend/factors/huber_loss.h"
 #include "backend/factors/motion_smoothness_factor.h"
 #include "backend/factors/odometry_factor.h"
+#include "backend/factors/pose_factor_linearisation.h"
 #include "backend/factors/pose_prior_factor.h"
 #include "backend/spd_inverse.h"
 
@@ -96,6 +97,10 @@ class WindowProblem {
     Vec6 smooth_sigma;
     smooth_sigma << Vec3::Constant(params.noise.smoothness_sigma_t_m), Vec3::Constant(params.noise.smoothness_sigma_r_rad);
 
+    // What the cameras that left the window said about its first camera (their odometry into it was
+    // eliminated with them).
+    if (!options.fix_cameras && graph->camera_prior && graph->camera_prior->frame == first && num_cameras > 0)
+      camera_prior_ = &*graph->camera_prior;
     if (first == 0 && !options.fix_cameras) {
       pose_factors_.push_back({0, -1, nullptr, Shared(PosePriorFactor::Create(graph->T_world_camera0_prior, graph->prior_sigma))});
     }
@@ -132,7 +137,8 @@ class WindowProblem {
   }
 
   int numResidualBlocks() const {
-    int n = static_cast<int>(measurements_.size() + motions_.size() + linears_.size() + pose_factors_.size());
+    int n = static_cast<int>(measurements_.size() + motions_.size() + linears_.size() + pose_factors_.size()) +
+            (camera_prior_ ? 1 : 0);
     for (const PointVariable* p : points_) n += p->hasPrior() ? 1 : 0;
     return n;
   }
@@ -154,6 +160,7 @@ class WindowProblem {
     }
     for (const auto& l : linears_) c += linearResidual(l).squaredNorm();
     for (const auto& f : pose_factors_) c += poseResidual(f, nullptr).squaredNorm();
+    if (camera_prior_) c += camera_prior_->residual(poses_[0]).squaredNorm();
     c *= 0.5;
     for (const PointVariable* p : points_)
       if (p->hasPrior()) c += p->priorCost(p->position(), huber_);
@@ -206,6 +213,14 @@ class WindowProblem {
     for (Group& g : groups_)
       if (!eliminate(g, lambda, S, b, &diag)) return false;
     for (const auto& f : pose_factors_) addPoseFactor(f, S, b, &diag);
+    if (camera_prior_) {
+      // Its Jacobian stays the one it was made with (first-estimate Jacobian), so that the information it
+      // carries is not changed by the steps of the cameras it was made from.
+      const Mat6& R = camera_prior_->R;
+      S->topLeftCorner<6, 6>() += R.transpose() * R;
+      b->head<6>() += R.transpose() * camera_prior_->residual(poses_[0]);
+      diag.head<6>() += R.colwise().squaredNorm().transpose();
+    }
     for (int j = 0; j < n; ++j)
       for (int i = j + 1; i < n; ++i) (*S)(i, j) = (*S)(j, i);
     for (int i = 0; i < n; ++i) (*S)(i, i) += lambda * std::max(diag[i], 1e-9) + 1e-12;
@@ -502,15 +517,8 @@ class WindowProblem {
   // its live blocks (J[0] of a, J[1] of b).
   Vec6 poseResidual(const PoseFactor& f, Mat6* J) const {
     const double* blocks[2] = {f.a >= 0 ? poses_[f.a] : f.a_fixed, f.b >= 0 ? poses_[f.b] : nullptr};
-    Eigen::Matrix<double, 6, 7, Eigen::RowMajor> ambient[2];
-    double* jacobians[2] = {nullptr, nullptr};
-    for (int i = 0; i < 2 && J; ++i)
-      if ((i == 0 ? f.a : f.b) >= 0) jacobians[i] = ambient[i].data();
-    Vec6 r;
-    f.cost->Evaluate(blocks, r.data(), J ? jacobians : nullptr);
-    for (int i = 0; i < 2 && J; ++i)
-      if (jacobians[i]) J[i] = ambient[i] * PoseBlockPlusJacobian(blocks[i]);
-    return r;
+    Mat6* wanted[2] = {J && f.a >= 0 ? &J[0] : nullptr, J && f.b >= 0 ? &J[1] : nullptr};
+    return LinearisePoseFactor(*f.cost, blocks, wanted);
   }
 
   void addPoseFactor(const PoseFactor& f, MatX* S, VecX* b, VecX* diag) const {
@@ -542,6 +550,7 @@ class WindowProblem {
   std::vector<PointMotion> motions_;
   std::vector<Linear> linears_;
   std::vector<PoseFactor> pose_factors_;
+  const CameraPrior* camera_prior_ = nullptr;  // on pose block 0, the window's first camera
   std::vector<Group> groups_;
   std::vector<int> local_index_;
   struct WBlock {

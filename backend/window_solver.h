@@ -10,7 +10,9 @@
 //  - each group is eliminated densely (a few 3x3 blocks) into a Schur complement over the pose-like
 //    blocks it touches (cameras and object motions), analytic Jacobians throughout;
 //  - what remains, the window's cameras and motions (a few hundred dimensions), is solved densely.
-// The camera before first_frame, when stored, is held constant (its odometry factor anchors the window).
+// Once cameras have left the window, FactorGraph::camera_prior on the first camera anchors it (the
+// odometry into it was eliminated with them); otherwise the camera before first_frame, when stored, is
+// held constant in its odometry factor (a batch graph's sub-window, a smoother whose chain broke).
 
 #include "backend/backend_params.h"
 #include "backend/factor_graph.h"
