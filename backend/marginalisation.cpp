@@ -296,9 +296,9 @@ void MarginaliseCameraFrame(const BackendParams& params, int m, FactorGraph* gra
   const Mat3 R = BlockRotationMatrix(cam);
   const Vec3 t = BlockTranslation(cam);
   FrameFactors& fm = graph->frame(m);
-  // With camera_prior_by_schur, camera m is eliminated by a Schur complement with the landmarks only it still measures, over its
-  // prior, the first-camera prior, its odometry to m+1 and those measurements: what is left is the
-  // prior on camera m+1, which replaces the odometry into it.
+  // With camera_prior_by_schur, camera m is eliminated by a Schur complement with the landmarks only it
+  // still measures, over its prior, the first-camera prior, its odometry to m+1 and those measurements:
+  // what is left is the prior on camera m+1, which replaces the odometry into it.
   constexpr int kLeaving = -1, kNext = -2;  // landmark keys are their variable ids (>= 0)
   const bool chained =
       params.camera_prior_by_schur && m + 1 < graph->numFrames() && graph->frame(m + 1).odometry.has_value();
