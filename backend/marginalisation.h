@@ -22,10 +22,10 @@
 //    window's anchor) and in the linear factors left by its object points, a leaving motion likewise in
 //    the smoothness factor to the next motion. With BackendParams::camera_prior_by_schur (off, see
 //    there for the figures) a leaving camera is instead eliminated exactly, by a Schur complement
-//    (backend/linear_elimination.h), with the static landmarks that only it still measures, over its own prior, its odometry factor to the
-//    next camera and their measurements and priors: what remains is a 6x6 Gaussian prior on the next
-//    camera (FactorGraph::camera_prior), linearised where it was made and kept there (first-estimate
-//    Jacobian), which replaces the odometry into that camera. Sparsified: the measurements of landmarks
+//    (backend/linear_elimination.h), with the static landmarks that only it still measures, over its
+//    own prior, its odometry factor to the next camera and their measurements and priors: what remains
+//    is a 6x6 Gaussian prior on the next camera (FactorGraph::camera_prior), linearised where it was
+//    made and kept there (first-estimate Jacobian), which replaces the odometry into that camera. Sparsified: the measurements of landmarks
 //    still observed stay with those landmarks, camera held (above), and the linear factors left by its
 //    object points hold it at its final estimate.
 // Final estimates are handed to the sink as they leave.

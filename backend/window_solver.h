@@ -10,9 +10,9 @@
 //  - each group is eliminated densely (a few 3x3 blocks) into a Schur complement over the pose-like
 //    blocks it touches (cameras and object motions), analytic Jacobians throughout;
 //  - what remains, the window's cameras and motions (a few hundred dimensions), is solved densely.
-// Once cameras have left the window, FactorGraph::camera_prior on the first camera anchors it (the
-// odometry into it was eliminated with them); otherwise the camera before first_frame, when stored, is
-// held constant in its odometry factor (a batch graph's sub-window, a smoother whose chain broke).
+// The camera before first_frame, when stored, is held constant (its odometry factor anchors the window),
+// unless FactorGraph::camera_prior is on the first camera (BackendParams::camera_prior_by_schur): then
+// the odometry into it was eliminated with the cameras that left, and that prior anchors the window.
 
 #include "backend/backend_params.h"
 #include "backend/factor_graph.h"
