@@ -25,6 +25,9 @@ void BackendParams::validate() const {
   RequirePositive(noise.smoothness_sigma_r_rad, "noise.smoothness_sigma_r_rad");
   RequirePositive(noise.prior_sigma, "noise.prior_sigma");
   RequirePositive(noise.huber_delta, "noise.huber_delta");
+  if (!(noise.smoothness_huber_delta >= 0.0) || !std::isfinite(noise.smoothness_huber_delta))
+    throw std::invalid_argument("noise.smoothness_huber_delta must be 0 (no robust kernel) or positive, got " +
+                                std::to_string(noise.smoothness_huber_delta));
   if (schedule.kind == ScheduleKind::kSlidingWindow && schedule.window_frames < 2)
     throw std::invalid_argument("schedule window W must be at least 2, got " + std::to_string(schedule.window_frames));
   if (motion_ransac.max_iterations < 1) throw std::invalid_argument("motion_ransac.max_iterations must be >= 1");

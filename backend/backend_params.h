@@ -33,6 +33,10 @@ struct NoiseParams {
   double smoothness_sigma_r_rad = 0.02;      // smoothness factor, rotation part
   double prior_sigma = 1e-4;                 // prior on the first camera pose (m and rad)
   double huber_delta = 2.0;                  // Huber threshold on whitened residuals
+  // Huber threshold on the smoothness factor's whitened 6-D residual; 0: plain least squares. An object
+  // whose motion breaks the model (a hard brake, a box label that jitters) then reaches the cameras only
+  // as far as its motion is explained.
+  double smoothness_huber_delta = 0.0;
 };
 
 struct BackendParams {

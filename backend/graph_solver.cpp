@@ -4,6 +4,7 @@
 #include <ceres/ceres.h>
 
 #include <memory>
+#include <optional>
 #include <unordered_set>
 
 #include "backend/factors/motion_smoothness_factor.h"
@@ -27,6 +28,8 @@ SolveSummary SolveGraph(const BackendParams& params, const SolveOptions& options
   problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
   ceres::HuberLoss huber(params.noise.huber_delta);
+  std::optional<ceres::HuberLoss> smoothness_huber;
+  if (params.noise.smoothness_huber_delta > 0.0) smoothness_huber.emplace(params.noise.smoothness_huber_delta);
   std::unique_ptr<ceres::Manifold> pose_manifold(NewPoseManifold());
 
   std::unordered_set<int> camera_blocks, point_blocks, motion_blocks;
@@ -75,7 +78,8 @@ SolveSummary SolveGraph(const BackendParams& params, const SolveOptions& options
     for (const auto& s : factors.smoothness)
       problem.AddResidualBlock(MotionSmoothnessFactor::Create(smooth_sigma, graph->motions.at(s.prev_motion_var).anchor_world,
                                                               graph->motions.at(s.curr_motion_var).anchor_world),
-                               nullptr, motion(s.prev_motion_var), motion(s.curr_motion_var));
+                               smoothness_huber ? &*smoothness_huber : nullptr, motion(s.prev_motion_var),
+                               motion(s.curr_motion_var));
   }
   result.num_residual_blocks = problem.NumResidualBlocks();
   if (result.num_residual_blocks == 0) return result;

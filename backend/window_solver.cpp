@@ -59,6 +59,7 @@ struct PoseFactor {
   int a = -1, b = -1;  // pose-block indices; -1: the constant block below (or absent for a unary factor)
   const double* a_fixed = nullptr;
   std::shared_ptr<const ceres::CostFunction> cost;  // residual 6; parameter blocks: a, or a and b
+  const HuberLoss* robust = nullptr;                // none: plain least squares
 };
 
 struct Group {
@@ -76,6 +77,7 @@ class WindowProblem {
  public:
   WindowProblem(const BackendParams& params, const WindowSolveOptions& options, FactorGraph* graph)
       : params_(params), huber_{params.noise.huber_delta}, motion_whitening_(Mat3::Identity() / params.noise.motion_sigma_m) {
+    if (params.noise.smoothness_huber_delta > 0.0) smoothness_huber_ = HuberLoss{params.noise.smoothness_huber_delta};
     const int first = options.first_frame, last = options.last_frame;
     auto point_index = [&](int id) {
       auto [it, is_new] = point_index_.try_emplace(id, static_cast<int>(points_.size()));
@@ -130,7 +132,8 @@ class WindowProblem {
         const int a = prev_live ? motion_index(s.prev_motion_var) : -1;
         const Vec3 anchor_prev = prev_live ? motion_anchor_[a - num_cameras] : s.prev_fixed_anchor;
         pose_factors_.push_back({a, b, prev_live ? nullptr : s.prev_fixed.data(),
-                                 Shared(MotionSmoothnessFactor::Create(smooth_sigma, anchor_prev, motion_anchor_[b - num_cameras]))});
+                                 Shared(MotionSmoothnessFactor::Create(smooth_sigma, anchor_prev, motion_anchor_[b - num_cameras])),
+                                 smoothness_huber_ ? &*smoothness_huber_ : nullptr});
       }
     }
     buildGroups();
@@ -159,7 +162,10 @@ class WindowProblem {
       c += huber_.rho(r.squaredNorm());
     }
     for (const auto& l : linears_) c += linearResidual(l).squaredNorm();
-    for (const auto& f : pose_factors_) c += poseResidual(f, nullptr).squaredNorm();
+    for (const auto& f : pose_factors_) {
+      const double s = poseResidual(f, nullptr).squaredNorm();
+      c += f.robust ? f.robust->rho(s) : s;
+    }
     if (camera_prior_) c += camera_prior_->residual(poses_[0]).squaredNorm();
     c *= 0.5;
     for (const PointVariable* p : points_)
@@ -524,7 +530,11 @@ class WindowProblem {
   void addPoseFactor(const PoseFactor& f, MatX* S, VecX* b, VecX* diag) const {
     const int blocks[2] = {f.a, f.b};
     Mat6 J[2];
-    const Vec6 r = poseResidual(f, J);
+    Vec6 r = poseResidual(f, J);
+    if (f.robust) {  // iteratively reweighted, as the measurements
+      const double w = f.robust->sqrtWeight(r.squaredNorm());
+      r *= w, J[0] *= w, J[1] *= w;
+    }
     for (int i = 0; i < 2; ++i) {
       if (blocks[i] < 0) continue;
       b->segment<6>(6 * blocks[i]) += J[i].transpose() * r;
@@ -540,6 +550,7 @@ class WindowProblem {
 
   const BackendParams& params_;
   HuberLoss huber_;
+  std::optional<HuberLoss> smoothness_huber_;
   Mat3 motion_whitening_;  // of the ternary factor: 1 / motion_sigma
   std::vector<double*> poses_;  // cameras first, then motions
   int num_cameras_ = 0;

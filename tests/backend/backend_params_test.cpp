@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+#include <string>
+
 namespace dslam {
 namespace {
 
@@ -15,6 +18,21 @@ TEST(BackendParams, NegativeSigmaIsAClearError) {
     FAIL() << "expected an error";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("point_sigma_m"), std::string::npos) << e.what();
+  }
+}
+
+TEST(BackendParams, TheSmoothnessKernelIsOffAtZeroAndRefusedNegative) {
+  BackendParams p;
+  p.noise.smoothness_huber_delta = 0.0;
+  EXPECT_NO_THROW(p.validate());
+  for (const double bad : {-1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    p.noise.smoothness_huber_delta = bad;
+    try {
+      p.validate();
+      ADD_FAILURE() << "expected an error for " << bad;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("smoothness_huber_delta"), std::string::npos) << e.what();
+    }
   }
 }
 

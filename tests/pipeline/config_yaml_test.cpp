@@ -13,6 +13,7 @@ TEST(ConfigYaml, RoundTripKeepsEveryValue) {
   c.backend.noise.point_sigma_m = 0.037;
   c.backend.noise.motion_sigma_m = 0.0123;
   c.backend.noise.huber_delta = 1.5;
+  c.backend.noise.smoothness_huber_delta = 0.75;
   c.backend.motion_ransac.inlier_threshold_m = 0.21;
   c.backend.object_window_frames = 4;
   c.backend.landmark_history_frames = 12;
@@ -35,6 +36,7 @@ TEST(ConfigYaml, RoundTripKeepsEveryValue) {
   EXPECT_EQ(back.backend.noise.point_sigma_m, 0.037);
   EXPECT_EQ(back.backend.noise.motion_sigma_m, 0.0123);
   EXPECT_EQ(back.backend.noise.huber_delta, 1.5);
+  EXPECT_EQ(back.backend.noise.smoothness_huber_delta, 0.75);
   EXPECT_EQ(back.backend.motion_ransac.inlier_threshold_m, 0.21);
   EXPECT_EQ(back.backend.object_window_frames, 4);
   EXPECT_EQ(back.backend.landmark_history_frames, 12);
