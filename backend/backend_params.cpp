@@ -9,6 +9,10 @@ void RequirePositive(double value, const std::string& name) {
   if (!(value > 0.0) || !std::isfinite(value))
     throw std::invalid_argument(name + " must be a positive finite number, got " + std::to_string(value));
 }
+void RequireNonNegative(double value, const std::string& name) {
+  if (!(value >= 0.0) || !std::isfinite(value))
+    throw std::invalid_argument(name + " must be 0 or a positive finite number, got " + std::to_string(value));
+}
 }  // namespace
 
 MotionMode BackendParams::modeFor(int object_id) const {
@@ -18,16 +22,13 @@ MotionMode BackendParams::modeFor(int object_id) const {
 
 void BackendParams::validate() const {
   RequirePositive(noise.point_sigma_m, "noise.point_sigma_m");
-  if (!(noise.point_sigma_per_depth_sq >= 0.0))
-    throw std::invalid_argument("noise.point_sigma_per_depth_sq must be >= 0");
+  RequireNonNegative(noise.point_sigma_per_depth_sq, "noise.point_sigma_per_depth_sq");
   RequirePositive(noise.motion_sigma_m, "noise.motion_sigma_m");
   RequirePositive(noise.smoothness_sigma_t_m, "noise.smoothness_sigma_t_m");
   RequirePositive(noise.smoothness_sigma_r_rad, "noise.smoothness_sigma_r_rad");
   RequirePositive(noise.prior_sigma, "noise.prior_sigma");
   RequirePositive(noise.huber_delta, "noise.huber_delta");
-  if (!(noise.smoothness_huber_delta >= 0.0) || !std::isfinite(noise.smoothness_huber_delta))
-    throw std::invalid_argument("noise.smoothness_huber_delta must be 0 (no robust kernel) or positive, got " +
-                                std::to_string(noise.smoothness_huber_delta));
+  RequireNonNegative(noise.smoothness_huber_delta, "noise.smoothness_huber_delta");  // 0: no kernel
   if (schedule.kind == ScheduleKind::kSlidingWindow && schedule.window_frames < 2)
     throw std::invalid_argument("schedule window W must be at least 2, got " + std::to_string(schedule.window_frames));
   if (motion_ransac.max_iterations < 1) throw std::invalid_argument("motion_ransac.max_iterations must be >= 1");

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <iostream>
 
-#include "backend/graph_builder.h"
 #include "backend/graph_solver.h"
 #include "support/city_graph.h"
 
@@ -14,20 +13,23 @@ namespace {
 
 using test::CityGraph;
 
+// Both solvers run to their optimum over frames 0..last.
+template <typename Options>
+Options Converged(int last_frame) {
+  Options options;
+  options.last_frame = last_frame;
+  options.max_iterations = 100;
+  options.function_tolerance = 1e-12;
+  return options;
+}
+
 TEST(WindowSolver, ReachesTheSameMinimumAsCeres) {
   BackendParams params;
   params.default_mode = MotionMode::kSmoothed;
   FactorGraph ceres_graph = CityGraph(8, params);
   FactorGraph ours = ceres_graph;
-  SolveOptions batch;
-  batch.last_frame = 7;
-  batch.max_iterations = 100;
-  batch.function_tolerance = 1e-12;
-  SolveGraph(params, batch, &ceres_graph);
-  WindowSolveOptions window;
-  window.last_frame = 7;
-  window.max_iterations = 100;
-  window.function_tolerance = 1e-12;
+  SolveGraph(params, Converged<SolveOptions>(7), &ceres_graph);
+  const auto window = Converged<WindowSolveOptions>(7);
   const WindowSolveSummary summary = SolveWindow(params, window, &ours);
   EXPECT_LT(summary.final_cost, summary.initial_cost);
   for (int k = 0; k < 8; ++k)
@@ -56,15 +58,8 @@ TEST(WindowSolver, WithARobustSmoothnessReachesTheSameMinimumAsCeres) {
   FactorGraph ceres_graph = CityGraph(8, params);
   FactorGraph ours = ceres_graph;
   FactorGraph quadratic = ceres_graph;
-  SolveOptions batch;
-  batch.last_frame = 7;
-  batch.max_iterations = 100;
-  batch.function_tolerance = 1e-12;
-  SolveGraph(params, batch, &ceres_graph);
-  WindowSolveOptions window;
-  window.last_frame = 7;
-  window.max_iterations = 100;
-  window.function_tolerance = 1e-12;
+  SolveGraph(params, Converged<SolveOptions>(7), &ceres_graph);
+  const auto window = Converged<WindowSolveOptions>(7);
   SolveWindow(params, window, &ours);
   BackendParams plain = params;
   plain.noise.smoothness_huber_delta = 0.0;
@@ -98,14 +93,8 @@ double CameraPullOfAJump(double smoothness_huber_delta) {
   if (!jumper) return 0.0;
   for (PointObservation& p : jumper->points) p.p_camera += Vec3(0.4, 0.0, 0.0);
   const auto solve = [&](const std::vector<FrameMeasurement>& frames) {
-    FactorGraph graph;
-    GraphBuilder builder(params, BuilderOptions{}, &graph);
-    for (const FrameMeasurement& f : frames) builder.addFrame(f);
-    SolveOptions batch;
-    batch.last_frame = kFrames - 1;
-    batch.max_iterations = 100;
-    batch.function_tolerance = 1e-12;
-    SolveGraph(params, batch, &graph);
+    FactorGraph graph = test::GraphOf(frames, params);
+    SolveGraph(params, Converged<SolveOptions>(kFrames - 1), &graph);
     std::vector<SE3> cameras;
     for (int k = 0; k < kFrames; ++k) cameras.push_back(BlockToPose(graph.camera(k)));
     return cameras;

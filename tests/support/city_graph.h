@@ -19,11 +19,15 @@ inline std::vector<FrameMeasurement> LabelledCityFrames(int frames) {
   return labelled;
 }
 
-inline FactorGraph CityGraph(int frames, const BackendParams& params) {
+inline FactorGraph GraphOf(const std::vector<FrameMeasurement>& frames, const BackendParams& params) {
   FactorGraph graph;
   GraphBuilder builder(params, BuilderOptions{}, &graph);
-  for (const auto& f : LabelledCityFrames(frames)) builder.addFrame(f);
+  for (const auto& f : frames) builder.addFrame(f);
   return graph;
+}
+
+inline FactorGraph CityGraph(int frames, const BackendParams& params) {
+  return GraphOf(LabelledCityFrames(frames), params);
 }
 
 }  // namespace dslam::test
