@@ -37,6 +37,9 @@ struct NoiseParams {
   // whose motion breaks the model (a hard brake, a box label that jitters) then reaches the cameras only
   // as far as its motion is explained.
   double smoothness_huber_delta = 0.0;
+  // Each object's smoothness sigmas scaled by its own residuals, never below the configured ones
+  // (backend/process_noise.h): a variance-component estimate of its process noise.
+  bool smoothness_from_residuals = true;
 };
 
 struct BackendParams {

@@ -8,6 +8,7 @@
 #include "backend/factors/pose_block.h"
 #include "backend/graph_solver.h"
 #include "backend/marginalisation.h"
+#include "backend/process_noise.h"
 #include "backend/window_solver.h"
 
 namespace dslam {
@@ -50,6 +51,8 @@ void Estimator::addFrame(const FrameMeasurement& frame) {
   solve.max_iterations = params_.max_iterations_window;
   solve.function_tolerance = params_.window_function_tolerance;
   solve.fix_cameras = static_cast<bool>(options_.fixed_T_world_camera);
+  // Before the solve, so that the newest motions (their own points' fit) are judged before they pull.
+  UpdateSmoothnessScales(params_, solve.first_frame, solve.last_frame, &graph_);
   const WindowSolveSummary summary = SolveWindow(params_, solve, &graph_);
   if (!options_.keep_solve_history) {
     solve_residual_blocks_.clear();
@@ -62,6 +65,11 @@ void Estimator::addFrame(const FrameMeasurement& frame) {
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
 }
 
+// Batch: re-solves with each object's smoothness scales from the last solve's residuals until no scale
+// changes by more than kProcessNoiseSettled (relative), at most kMaxProcessNoiseRounds times.
+constexpr int kMaxProcessNoiseRounds = 3;
+constexpr double kProcessNoiseSettled = 0.05;
+
 Estimate Estimator::finish() {
   if (params_.schedule.kind == ScheduleKind::kBatch) {
     SolveOptions solve;
@@ -71,6 +79,11 @@ Estimate Estimator::finish() {
     solve.num_threads = params_.num_threads;
     solve.fix_cameras = static_cast<bool>(options_.fixed_T_world_camera);
     SolveGraph(params_, solve, &graph_);
+    // Each object's process noise from its residuals, solved again until the scales settle.
+    for (int round = 0; round < kMaxProcessNoiseRounds &&
+                        UpdateSmoothnessScales(params_, 0, solve.last_frame, &graph_) > kProcessNoiseSettled;
+         ++round)
+      SolveGraph(params_, solve, &graph_);
     batchMotionCovariances();
   }
   flush();

@@ -196,6 +196,22 @@ inline PoseBlock MotionVariable::AnchorBlock(const SE3& H_world, const Vec3& anc
   return block;
 }
 
+// Sums of an object's smoothness residuals whitened by the configured sigmas, split into translation and
+// rotation (backend/process_noise.h).
+struct SmoothnessResiduals {
+  double sum_sq_t = 0.0;
+  double sum_sq_r = 0.0;
+  int count = 0;
+};
+
+// One object's motion-smoothness process noise: the scales of its configured sigmas, and the residuals of
+// its smoothness factors that are final (they left the smoother's window).
+struct SmoothnessNoise {
+  double scale_t = 1.0;
+  double scale_r = 1.0;
+  SmoothnessResiduals final;
+};
+
 // Variables keyed by ids that are never reused, so that the fixed-lag smoother can retire what left
 // its window (memory bounded by the window, not the sequence) while the batch schedule keeps it all.
 // Frames (camera poses, factors, transitions) retire from the front: frame k is stored at
@@ -212,6 +228,7 @@ struct FactorGraph {
   SE3 T_world_camera0_prior;
   Vec6 prior_sigma = Vec6::Constant(1e-4);
   std::optional<CameraPrior> camera_prior;  // on the window's first camera, once cameras have left it
+  std::unordered_map<int, SmoothnessNoise> smoothness_noise;  // by object id; absent: scale 1
 
   int numFrames() const { return first_stored_frame + static_cast<int>(frames.size()); }
   double* camera(int k) { return camera_poses[k - first_stored_frame].data(); }

@@ -14,6 +14,7 @@
 #include "backend/factors/pose_block.h"
 #include "backend/factors/pose_manifold.h"
 #include "backend/factors/pose_prior_factor.h"
+#include "backend/process_noise.h"
 
 namespace dslam {
 
@@ -73,13 +74,14 @@ SolveSummary SolveGraph(const BackendParams& params, const SolveOptions& options
       problem.AddResidualBlock(PointMotionFactor::Create(params.noise.motion_sigma_m,
                                                          graph->motions.at(m.motion_var).anchor_world),
                                &huber, point(m.prev_point_var), point(m.curr_point_var), motion(m.motion_var));
-    Vec6 smooth_sigma;
-    smooth_sigma << Vec3::Constant(params.noise.smoothness_sigma_t_m), Vec3::Constant(params.noise.smoothness_sigma_r_rad);
-    for (const auto& s : factors.smoothness)
-      problem.AddResidualBlock(MotionSmoothnessFactor::Create(smooth_sigma, graph->motions.at(s.prev_motion_var).anchor_world,
-                                                              graph->motions.at(s.curr_motion_var).anchor_world),
+    for (const auto& s : factors.smoothness) {
+      const MotionVariable& curr = graph->motions.at(s.curr_motion_var);
+      problem.AddResidualBlock(MotionSmoothnessFactor::Create(SmoothnessSigma(params, *graph, curr.object_id),
+                                                              graph->motions.at(s.prev_motion_var).anchor_world,
+                                                              curr.anchor_world),
                                smoothness_huber ? &*smoothness_huber : nullptr, motion(s.prev_motion_var),
                                motion(s.curr_motion_var));
+    }
   }
   result.num_residual_blocks = problem.NumResidualBlocks();
   if (result.num_residual_blocks == 0) return result;

@@ -19,6 +19,7 @@
 #include "backend/factors/odometry_factor.h"
 #include "backend/factors/pose_factor_linearisation.h"
 #include "backend/factors/pose_prior_factor.h"
+#include "backend/process_noise.h"
 #include "backend/spd_inverse.h"
 
 namespace dslam {
@@ -96,8 +97,6 @@ class WindowProblem {
       }
       return it->second;
     };
-    Vec6 smooth_sigma;
-    smooth_sigma << Vec3::Constant(params.noise.smoothness_sigma_t_m), Vec3::Constant(params.noise.smoothness_sigma_r_rad);
 
     // What the cameras that left the window said about its first camera (their odometry into it was
     // eliminated with them).
@@ -132,7 +131,9 @@ class WindowProblem {
         const int a = prev_live ? motion_index(s.prev_motion_var) : -1;
         const Vec3 anchor_prev = prev_live ? motion_anchor_[a - num_cameras] : s.prev_fixed_anchor;
         pose_factors_.push_back({a, b, prev_live ? nullptr : s.prev_fixed.data(),
-                                 Shared(MotionSmoothnessFactor::Create(smooth_sigma, anchor_prev, motion_anchor_[b - num_cameras])),
+                                 Shared(MotionSmoothnessFactor::Create(
+                                     SmoothnessSigma(params, *graph, graph->motions.at(s.curr_motion_var).object_id),
+                                     anchor_prev, motion_anchor_[b - num_cameras])),
                                  smoothness_huber_ ? &*smoothness_huber_ : nullptr});
       }
     }

@@ -49,7 +49,9 @@ TEST(EvaluateRun, ARunsOwnObjectIdsAreMatchedToTheGroundTruthFrameByFrame) {
   for (const ObjectPairSample& s : samples) {
     EXPECT_EQ(s.object_id, 7);
     EXPECT_EQ(s.estimated, s.frame < 4) << s.frame;
-    if (s.estimated) EXPECT_NEAR(s.speed_est_mps, s.speed_gt_mps, 1e-9);
+    if (s.estimated) {
+      EXPECT_NEAR(s.speed_est_mps, s.speed_gt_mps, 1e-9);
+    }
   }
   const MethodMetrics m = EvaluateEstimate(seq, est, true);
   ASSERT_TRUE(m.objects && m.objects->object_coverage);

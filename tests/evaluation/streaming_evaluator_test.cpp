@@ -13,7 +13,9 @@ namespace {
 
 void ExpectNear(const std::optional<double>& a, const std::optional<double>& b, const char* what) {
   ASSERT_EQ(a.has_value(), b.has_value()) << what;
-  if (a) EXPECT_NEAR(*a, *b, 1e-9 * std::max(1.0, std::abs(*b))) << what;
+  if (a) {
+    EXPECT_NEAR(*a, *b, 1e-9 * std::max(1.0, std::abs(*b))) << what;
+  }
 }
 
 // Fed the estimates one by one, points before their cameras, it reads what EvaluateEstimate reads from the

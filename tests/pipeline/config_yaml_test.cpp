@@ -14,6 +14,7 @@ TEST(ConfigYaml, RoundTripKeepsEveryValue) {
   c.backend.noise.motion_sigma_m = 0.0123;
   c.backend.noise.huber_delta = 1.5;
   c.backend.noise.smoothness_huber_delta = 0.75;
+  c.backend.noise.smoothness_from_residuals = false;
   c.backend.motion_ransac.inlier_threshold_m = 0.21;
   c.backend.object_window_frames = 4;
   c.backend.landmark_history_frames = 12;
@@ -37,6 +38,7 @@ TEST(ConfigYaml, RoundTripKeepsEveryValue) {
   EXPECT_EQ(back.backend.noise.motion_sigma_m, 0.0123);
   EXPECT_EQ(back.backend.noise.huber_delta, 1.5);
   EXPECT_EQ(back.backend.noise.smoothness_huber_delta, 0.75);
+  EXPECT_FALSE(back.backend.noise.smoothness_from_residuals);
   EXPECT_EQ(back.backend.motion_ransac.inlier_threshold_m, 0.21);
   EXPECT_EQ(back.backend.object_window_frames, 4);
   EXPECT_EQ(back.backend.landmark_history_frames, 12);
