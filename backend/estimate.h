@@ -3,6 +3,7 @@
 // estimated world position of every point observation (for the structure error).
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -44,6 +45,7 @@ struct PointEstimate {
 
 struct Estimate {
   std::vector<SE3> T_world_camera;
+  std::map<int, Mat6> camera_step_covariance;  // by frame, where the estimator gave one (EstimateSink)
   std::vector<ObjectMotionEstimate> object_motions;  // only transitions that received an estimate
   std::vector<PointEstimate> points;
 };
@@ -56,6 +58,10 @@ class EstimateSink {
   virtual void cameraFinal(int frame, const SE3& T_world_camera) = 0;
   virtual void motionFinal(const ObjectMotionEstimate& motion) = 0;
   virtual void pointFinal(const PointEstimate& point) = 0;
+  // Before cameraFinal(frame), when the estimator knows it: the covariance of the camera's step
+  // T[frame-1]^-1 T[frame] from its information, over the tangent [translation, in camera frame-1;
+  // rotation, perturbed on the right] (backend/window_solver.h). A sink may ignore it.
+  virtual void cameraStepCovariance(int /*frame*/, const Mat6& /*covariance*/) {}
 };
 
 // Keeps everything it receives, as one Estimate (runs that evaluate at the end).
@@ -64,6 +70,9 @@ class CollectingSink : public EstimateSink {
   void cameraFinal(int, const SE3& T_world_camera) override { estimate.T_world_camera.push_back(T_world_camera); }
   void motionFinal(const ObjectMotionEstimate& motion) override { estimate.object_motions.push_back(motion); }
   void pointFinal(const PointEstimate& point) override { estimate.points.push_back(point); }
+  void cameraStepCovariance(int frame, const Mat6& covariance) override {
+    estimate.camera_step_covariance[frame] = covariance;
+  }
   Estimate estimate;
 };
 
@@ -77,6 +86,9 @@ class TeeSink : public EstimateSink {
   }
   void motionFinal(const ObjectMotionEstimate& motion) override { a_->motionFinal(motion), b_->motionFinal(motion); }
   void pointFinal(const PointEstimate& point) override { a_->pointFinal(point), b_->pointFinal(point); }
+  void cameraStepCovariance(int frame, const Mat6& covariance) override {
+    a_->cameraStepCovariance(frame, covariance), b_->cameraStepCovariance(frame, covariance);
+  }
 
  private:
   EstimateSink* a_;

@@ -42,6 +42,7 @@ void Estimator::addFrame(const FrameMeasurement& frame) {
       MarginaliseObjectFrame(params_, frame_rate_hz_, k - window, &graph_, sink_, ObjectWindow::kTrackMotion);
   }
   if (k - window >= 0) {
+    handStepCovariance(k - window);
     MarginaliseCameraFrame(params_, k - window, &graph_, sink_);
     cameras_final_ = k - window + 1;
   }
@@ -51,9 +52,11 @@ void Estimator::addFrame(const FrameMeasurement& frame) {
   solve.max_iterations = params_.max_iterations_window;
   solve.function_tolerance = params_.window_function_tolerance;
   solve.fix_cameras = static_cast<bool>(options_.fixed_T_world_camera);
+  solve.camera_step_covariance = !solve.fix_cameras;
   // Before the solve, so that the newest motions (their own points' fit) are judged before they pull.
   UpdateSmoothnessScales(params_, solve.first_frame, solve.last_frame, &graph_);
   const WindowSolveSummary summary = SolveWindow(params_, solve, &graph_);
+  for (const CameraStepCovariance& c : summary.camera_step_covariances) camera_step_covariance_[c.frame] = c.covariance;
   if (!options_.keep_solve_history) {
     solve_residual_blocks_.clear();
     solve_iterations_.clear();
@@ -84,33 +87,48 @@ Estimate Estimator::finish() {
                         UpdateSmoothnessScales(params_, 0, solve.last_frame, &graph_) > kProcessNoiseSettled;
          ++round)
       SolveGraph(params_, solve, &graph_);
-    batchMotionCovariances();
+    batchCovariances();
   }
   flush();
   return std::move(collected_.estimate);
 }
 
-// Frames on each side of a motion whose information gives its covariance in a batch run; the rest of
-// the trajectory is held. The whole trajectory's dense system would not fit a long run, and farther
-// frames barely inform one motion. Held frames inform nothing, so the sigma errs on the wide side.
+// Frames on each side of a motion (a camera step) whose information gives its covariance in a batch run;
+// the rest of the trajectory is held. The whole trajectory's dense system would not fit a long run, and
+// farther frames barely inform one motion. Held frames inform nothing, so the sigma errs on the wide side.
 constexpr int kBatchCovarianceHalfWindow = 5;
 
-void Estimator::batchMotionCovariances() {
+void Estimator::batchCovariances() {
   std::map<int, std::vector<int>> motions_by_frame;
   for (const auto& [id, motion] : graph_.motions) motions_by_frame[motion.first_frame].push_back(id);
+  const bool fix_cameras = static_cast<bool>(options_.fixed_T_world_camera);
   std::map<int, Mat6> covariances;
   const int last = graph_.numFrames() - 1;
-  for (const auto& [frame, ids] : motions_by_frame) {
+  for (int frame = 0; frame <= last; ++frame) {
+    const auto motions = motions_by_frame.find(frame);
+    const bool camera_step = frame > 0 && !fix_cameras;
+    if (motions == motions_by_frame.end() && !camera_step) continue;
     WindowSolveOptions window;
     window.first_frame = std::max(0, frame - kBatchCovarianceHalfWindow);
     window.last_frame = std::min(last, frame + kBatchCovarianceHalfWindow);
-    window.fix_cameras = static_cast<bool>(options_.fixed_T_world_camera);
+    window.fix_cameras = fix_cameras;
+    window.camera_step_covariance = camera_step;
     window.covariance_only = true;
+    const std::vector<int> ids = motions == motions_by_frame.end() ? std::vector<int>{} : motions->second;
     for (int id : ids) graph_.motions.at(id).covariance.setZero();
-    SolveWindow(params_, window, &graph_);
+    const WindowSolveSummary summary = SolveWindow(params_, window, &graph_);
     for (int id : ids) covariances[id] = graph_.motions.at(id).covariance;  // later windows overwrite the graph's
+    for (const CameraStepCovariance& c : summary.camera_step_covariances)
+      if (c.frame == frame) camera_step_covariance_[frame] = c.covariance;
   }
   for (const auto& [id, covariance] : covariances) graph_.motions.at(id).covariance = covariance;
+}
+
+void Estimator::handStepCovariance(int frame) {
+  const auto it = camera_step_covariance_.find(frame);
+  if (it == camera_step_covariance_.end()) return;
+  sink_->cameraStepCovariance(frame, it->second);
+  camera_step_covariance_.erase(camera_step_covariance_.begin(), std::next(it));
 }
 
 void Estimator::flush() {
@@ -123,8 +141,10 @@ void Estimator::flush() {
       sink_->pointFinal({k, var.track_id, var.object_id, var.position()});
     }
   }
-  for (; cameras_final_ < graph_.numFrames(); ++cameras_final_)
+  for (; cameras_final_ < graph_.numFrames(); ++cameras_final_) {
+    handStepCovariance(cameras_final_);
     sink_->cameraFinal(cameras_final_, BlockToPose(graph_.camera(cameras_final_)));
+  }
 }
 
 FrameEstimate Estimator::latest() const {

@@ -7,6 +7,7 @@
 //    memory are bounded by the window, not by the sequence.
 
 #include <functional>
+#include <map>
 #include <vector>
 
 #include "backend/backend_params.h"
@@ -59,7 +60,8 @@ class Estimator {
 
  private:
   void flush();  // hands everything still in the graph to the sink
-  void batchMotionCovariances();
+  void batchCovariances();
+  void handStepCovariance(int frame);  // to the sink, before the camera itself
 
   BackendParams params_;
   double frame_rate_hz_;
@@ -69,6 +71,8 @@ class Estimator {
   CollectingSink collected_;
   EstimateSink* sink_;
   int cameras_final_ = 0;  // cameras [0, cameras_final_) were handed to the sink
+  // Each camera's step covariance from the last solve that held both of its cameras, until it is final.
+  std::map<int, Mat6> camera_step_covariance_;
   std::vector<double> solve_times_ms_;
   std::vector<int> solve_residual_blocks_;
   std::vector<int> solve_iterations_;

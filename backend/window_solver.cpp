@@ -184,6 +184,7 @@ class WindowProblem {
     if (!reduced.factorise(S)) return false;
     *dx = reduced.solve(-b);
     last_reduced_ = std::move(reduced);
+    last_lambda_ = lambda;
     dp->assign(points_.size(), Vec3::Zero());
     for (const Group& g : groups_) {
       VecX dx_local(6 * g.poses.size());
@@ -204,6 +205,29 @@ class WindowProblem {
     if (!last_reduced_) return out;
     const std::vector<Mat6> blocks = last_reduced_->motionCovariances();
     for (const auto& [id, index] : motion_index_) out[id] = blocks[index - num_cameras_];
+    return out;
+  }
+
+  double lastDamping() const { return last_reduced_ ? last_lambda_ : 0.0; }
+
+  // Each consecutive camera pair's step covariance from the same system: J Sigma_pair J^T, J the step's
+  // Jacobian in both cameras' tangents. Empty when there was no step or fewer than two cameras.
+  std::vector<CameraStepCovariance> cameraStepCovariances(int first_frame) const {
+    std::vector<CameraStepCovariance> out;
+    if (!last_reduced_ || num_cameras_ < 2) return out;
+    const MatX covariance = last_reduced_->cameraCovariance();
+    for (int i = 1; i < num_cameras_; ++i) {
+      const Mat3 R_a = BlockRotationMatrix(poses_[i - 1]), R_b = BlockRotationMatrix(poses_[i]);
+      const Vec3 t_step = R_a.transpose() * (BlockTranslation(poses_[i]) - BlockTranslation(poses_[i - 1]));
+      // t_step = R_a^T (t_b - t_a), R_step = R_a^T R_b; (R, t) <- (R Exp(phi), t + dt) in each camera.
+      Eigen::Matrix<double, 6, 12> J = Eigen::Matrix<double, 6, 12>::Zero();
+      J.block<3, 3>(0, 0) = -R_a.transpose();
+      J.block<3, 3>(0, 3) = Hat(t_step);
+      J.block<3, 3>(0, 6) = R_a.transpose();
+      J.block<3, 3>(3, 3) = -(R_a.transpose() * R_b).transpose();
+      J.block<3, 3>(3, 9) = Mat3::Identity();
+      out.push_back({first_frame + i, J * covariance.block<12, 12>(6 * (i - 1), 6 * (i - 1)) * J.transpose()});
+    }
     return out;
   }
 
@@ -290,6 +314,11 @@ class WindowProblem {
         for (size_t r = 0; r < c.rows.size(); ++r) x[c.rows[r]] = xm[static_cast<Eigen::Index>(r)];
       }
       return x;
+    }
+
+    // The cameras' block of S^-1: the inverse of their Schur complement (empty without cameras).
+    MatX cameraCovariance() const {
+      return nc_ > 0 ? MatX(cameras_.solve(MatX::Identity(nc_, nc_))) : MatX();
     }
 
     // The 6x6 diagonal blocks of S^-1 for the motions, in motion order:
@@ -571,7 +600,8 @@ class WindowProblem {
     Mat36 B;
   };
   std::vector<WBlock> scratch_blocks_;
-  std::optional<ReducedSystem> last_reduced_;  // of the last computeStep, for motionCovariances
+  std::optional<ReducedSystem> last_reduced_;  // of the last computeStep, for the covariances
+  double last_lambda_ = 0.0;                   // its damping
   std::vector<PoseBlock> saved_poses_;
   std::vector<std::array<double, 3>> saved_points_;
 };
@@ -597,7 +627,10 @@ WindowSolveSummary SolveWindow(const BackendParams& params, const WindowSolveOpt
     std::vector<Vec3> dp;
     // A whisper of damping: on a batch graph the motions at the window's first frame have lost the
     // information of their points' previous frame, and those of an object leaving there have none.
-    if (problem.computeStep(1e-9, &dx, &dp)) StoreMotionCovariances(problem, graph);
+    if (problem.computeStep(1e-9, &dx, &dp)) {
+      StoreMotionCovariances(problem, graph);
+      if (options.camera_step_covariance) summary.camera_step_covariances = problem.cameraStepCovariances(options.first_frame);
+    }
     return summary;
   }
   double lambda = 1e-4;  // as Ceres' default initial trust region (radius 1e4)
@@ -623,7 +656,14 @@ WindowSolveSummary SolveWindow(const BackendParams& params, const WindowSolveOpt
     if (decrease < options.function_tolerance) break;
   }
   summary.final_cost = cost;
+  // The covariances read the last factorisation. One damped far more than a converged step's (the loop
+  // ended on rejected steps, or the start was already the optimum) would understate them: factorise
+  // again with a whisper of damping.
+  constexpr double kMaxCovarianceDamping = 1e-3;  // understates a covariance by at most 0.1 %
+  if ((options.motion_covariance || options.camera_step_covariance) && problem.lastDamping() > kMaxCovarianceDamping)
+    problem.computeStep(1e-9, &dx, &dp);
   if (options.motion_covariance) StoreMotionCovariances(problem, graph);
+  if (options.camera_step_covariance) summary.camera_step_covariances = problem.cameraStepCovariances(options.first_frame);
   return summary;
 }
 

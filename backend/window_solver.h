@@ -14,6 +14,8 @@
 // unless FactorGraph::camera_prior is on the first camera (BackendParams::camera_prior_by_schur): then
 // the odometry into it was eliminated with the cameras that left, and that prior anchors the window.
 
+#include <vector>
+
 #include "backend/backend_params.h"
 #include "backend/factor_graph.h"
 
@@ -28,9 +30,19 @@ struct WindowSolveOptions {
   // After the solve, each motion's marginal covariance (MotionVariable::covariance) from the window's
   // information, read from the last step's factorisation (no extra linearisation).
   bool motion_covariance = true;
-  // Take no step: only the motions' covariances at the current estimate (the batch schedule's, after
-  // its own solve).
+  // After the solve, the covariance of each camera step whose two cameras are in the window
+  // (WindowSolveSummary::camera_step_covariances), from the same factorisation.
+  bool camera_step_covariance = false;
+  // Take no step: only the covariances at the current estimate (the batch schedule's, after its own
+  // solve).
   bool covariance_only = false;
+};
+
+// The covariance of camera k's step T[k-1]^-1 T[k], over its tangent [translation, in camera k-1;
+// rotation, perturbed on the right], with every other variable of the window marginalised.
+struct CameraStepCovariance {
+  int frame = 0;  // k
+  Mat6 covariance = Mat6::Zero();
 };
 
 struct WindowSolveSummary {
@@ -38,6 +50,7 @@ struct WindowSolveSummary {
   int num_iterations = 0;
   double initial_cost = 0.0;
   double final_cost = 0.0;
+  std::vector<CameraStepCovariance> camera_step_covariances;  // in frame order
 };
 
 WindowSolveSummary SolveWindow(const BackendParams& params, const WindowSolveOptions& options, FactorGraph* graph);

@@ -72,7 +72,7 @@ std::vector<ObjectPairSample> BuildObjectSamples(const Sequence& seq, const Esti
 MethodMetrics EvaluateEstimate(const Sequence& seq, const Estimate& est, bool estimates_objects,
                                const std::string& category) {
   MethodMetrics m;
-  m.camera = ComputeCameraMetrics(seq.gt.T_world_camera, est.T_world_camera);
+  m.camera = ComputeCameraMetrics(seq.gt.T_world_camera, est.T_world_camera, est.camera_step_covariance);
   RseAccumulator rse;
   for (const auto& p : est.points) {
     Vec3 p_gt_world;

@@ -7,11 +7,13 @@
 
 namespace dslam {
 
-void CameraMetricsAccumulator::add(const SE3& gt, const SE3& est) {
+void CameraMetricsAccumulator::add(const SE3& gt, const SE3& est, const Mat6* step_covariance) {
   sum_sq_ate_ += (gt.translation() - est.translation()).squaredNorm();
   if (poses_ > 0) {
     const SE3 d_gt = gt_prev_.inverse() * gt;
     const SE3 d_est = est_prev_.inverse() * est;
+    if (step_covariance)
+      if (const std::optional<double> nees = CameraStepNees(d_gt, d_est, *step_covariance)) sum_nees_ += *nees, ++nees_steps_;
     const SE3 e = d_gt.inverse() * d_est;
     path_length_m_ += d_gt.translation().norm();
     sum_t_ += e.translation().norm();
@@ -22,9 +24,20 @@ void CameraMetricsAccumulator::add(const SE3& gt, const SE3& est) {
   ++poses_;
 }
 
+std::optional<double> CameraStepNees(const SE3& step_gt, const SE3& step_est, const Mat6& covariance) {
+  const Eigen::LDLT<Mat6> ldlt(covariance);
+  if (covariance.isZero(0.0) || ldlt.info() != Eigen::Success || !ldlt.isPositive() ||
+      (ldlt.vectorD().array() <= 0.0).any())
+    return std::nullopt;
+  Vec6 e;
+  e << step_est.translation() - step_gt.translation(), RotationLog(step_gt.rotation().conjugate() * step_est.rotation());
+  return e.dot(ldlt.solve(e));
+}
+
 CameraMetrics CameraMetricsAccumulator::result() const {
   CameraMetrics m;
   m.path_length_m = path_length_m_;
+  if (nees_steps_ > 0) m.camera_step_nees = sum_nees_ / nees_steps_;
   if (poses_ > 0) m.ate_m = std::sqrt(sum_sq_ate_ / static_cast<double>(poses_));
   const double steps = poses_ > 1 ? static_cast<double>(poses_ - 1) : 0.0;
   if (path_length_m_ >= kMinPathForRelativeErrorM) {
@@ -37,12 +50,16 @@ CameraMetrics CameraMetricsAccumulator::result() const {
   return m;
 }
 
-CameraMetrics ComputeCameraMetrics(const std::vector<SE3>& gt, const std::vector<SE3>& est) {
+CameraMetrics ComputeCameraMetrics(const std::vector<SE3>& gt, const std::vector<SE3>& est,
+                                   const std::map<int, Mat6>& step_covariance) {
   if (gt.size() != est.size())
     throw std::invalid_argument("camera metrics: " + std::to_string(est.size()) + " estimated poses for " +
                                 std::to_string(gt.size()) + " ground-truth poses");
   CameraMetricsAccumulator acc;
-  for (size_t k = 0; k < gt.size(); ++k) acc.add(gt[k], est[k]);
+  for (size_t k = 0; k < gt.size(); ++k) {
+    const auto it = step_covariance.find(static_cast<int>(k));
+    acc.add(gt[k], est[k], it == step_covariance.end() ? nullptr : &it->second);
+  }
   return acc.result();
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // The error metrics of docs/design.md §9, computed from plain inputs so that each can be checked by hand.
 
+#include <map>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -21,12 +22,16 @@ struct CameraMetrics {
   std::optional<double> mean_step_te_m;  // only when the path is shorter than 1 m
   std::optional<double> mean_step_re_deg;
   double ate_m = 0.0;  // RMSE of positions, no alignment
+  // Mean normalised estimation error squared of the camera steps T[k-1]^-1 T[k] that came with a covariance
+  // (EstimateSink::cameraStepCovariance): 6 when the reported covariance is honest (larger: overconfident).
+  std::optional<double> camera_step_nees;
 };
 
 // The camera metrics accumulated pose by pose in frame order, so that a long run keeps no trajectory.
 class CameraMetricsAccumulator {
  public:
-  void add(const SE3& T_world_camera_gt, const SE3& T_world_camera_est);
+  // `step_covariance`: of the estimated step from the previous pose to this one, when known.
+  void add(const SE3& T_world_camera_gt, const SE3& T_world_camera_est, const Mat6* step_covariance = nullptr);
   int poses() const { return poses_; }
   CameraMetrics result() const;
 
@@ -34,10 +39,18 @@ class CameraMetricsAccumulator {
   int poses_ = 0;
   SE3 gt_prev_, est_prev_;
   double path_length_m_ = 0.0, sum_t_ = 0.0, sum_r_deg_ = 0.0, sum_sq_ate_ = 0.0;
+  double sum_nees_ = 0.0;
+  int nees_steps_ = 0;
 };
 
+// A camera step's error e^T Cov^-1 e, e = [t_est - t_gt; Log(R_gt^T R_est)] (the step's translation in its
+// first camera, the rotation perturbed on the right); nullopt when the covariance is not positive definite.
+std::optional<double> CameraStepNees(const SE3& step_gt, const SE3& step_est, const Mat6& covariance);
+
 // Poses per frame; both vectors must have the same size (throws std::invalid_argument otherwise).
-CameraMetrics ComputeCameraMetrics(const std::vector<SE3>& T_world_camera_gt, const std::vector<SE3>& T_world_camera_est);
+// `step_covariance`: of the estimated steps into the frames it holds (CameraMetrics::camera_step_nees).
+CameraMetrics ComputeCameraMetrics(const std::vector<SE3>& T_world_camera_gt, const std::vector<SE3>& T_world_camera_est,
+                                   const std::map<int, Mat6>& step_covariance = {});
 
 // RSE (%) = 100 * sum |p_est - p_gt| / sum |p_gt| over observations, points in the observing camera's frame.
 // Pairs are (p_est, p_gt); nullopt when empty.

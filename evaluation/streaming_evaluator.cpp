@@ -30,10 +30,16 @@ void StreamingEvaluator::cameraFinal(int frame, const SE3& T_world_camera) {
   if (frame != static_cast<int>(T_world_camera_est_.size()) || frame >= static_cast<int>(gt_.T_world_camera.size()))
     throw std::logic_error("evaluation: camera " + std::to_string(frame) + " final out of order");
   T_world_camera_est_.push_back(T_world_camera);
-  camera_.add(gt_.T_world_camera[frame], T_world_camera);
+  const bool has_step_covariance = step_covariance_ && step_covariance_->first == frame;
+  camera_.add(gt_.T_world_camera[frame], T_world_camera, has_step_covariance ? &step_covariance_->second : nullptr);
+  step_covariance_.reset();
   const auto [first, last] = waiting_.equal_range(frame);
   for (auto it = first; it != last; ++it) addPoint(it->second);
   waiting_.erase(first, last);
+}
+
+void StreamingEvaluator::cameraStepCovariance(int frame, const Mat6& covariance) {
+  step_covariance_.emplace(frame, covariance);
 }
 
 void StreamingEvaluator::pointFinal(const PointEstimate& point) {

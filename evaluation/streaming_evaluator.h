@@ -6,6 +6,7 @@
 // another order: equal to rounding).
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,7 @@ class StreamingEvaluator : public EstimateSink {
   void cameraFinal(int frame, const SE3& T_world_camera) override;
   void motionFinal(const ObjectMotionEstimate& motion) override;
   void pointFinal(const PointEstimate& point) override;
+  void cameraStepCovariance(int frame, const Mat6& covariance) override;
 
   // After the method's last estimate. Throws std::logic_error when a made frame has no final camera or
   // a point still waits for its camera.
@@ -44,6 +46,7 @@ class StreamingEvaluator : public EstimateSink {
   int frames_made_ = 0;
   std::vector<SE3> T_world_camera_est_;  // final cameras, by frame
   std::multimap<int, PointEstimate> waiting_;  // points whose camera is not final yet, by frame
+  std::optional<std::pair<int, Mat6>> step_covariance_;  // of the next final camera's step, when given
   CameraMetricsAccumulator camera_;
   RseAccumulator structure_;
   ObjectMetricsAccumulator objects_;

@@ -95,6 +95,7 @@ nlohmann::json MethodMetricsJson(const MethodMetrics& m, double wall_time_s) {
   // Beyond the fixed schema: context a reader needs to interpret the figures above.
   j["speed_err_kmh"] = Opt(o && o->speed_err_mps ? std::optional<double>(*o->speed_err_mps * 3.6) : std::nullopt);
   j["camera_path_m"] = m.camera.path_length_m;
+  j["camera_step_nees"] = Opt(m.camera.camera_step_nees);
   j["mean_step_te_m"] = Opt(m.camera.mean_step_te_m);
   j["mean_step_re_deg"] = Opt(m.camera.mean_step_re_deg);
   j["static_pairs_mean_speed_mps"] = Opt(o ? o->static_mean_speed_mps : std::nullopt);

@@ -21,6 +21,10 @@ class LockstepMethods::StaticStageSink : public EstimateSink {
     for (EstimateSink* s : {static_only_, slam_mot_})
       if (s) s->pointFinal(point);
   }
+  void cameraStepCovariance(int frame, const Mat6& covariance) override {
+    for (EstimateSink* s : {static_only_, slam_mot_})
+      if (s) s->cameraStepCovariance(frame, covariance);
+  }
 
  private:
   EstimateSink* static_only_;

@@ -213,5 +213,49 @@ TEST(FixedLagSmoother, ObjectsWithOneMotionKeepTheirPointsForTheCameraWindow) {
   EXPECT_EQ(discard.cameras, static_cast<int>(frames.size()));
 }
 
+// Records the order of what a sink receives, and each step covariance.
+struct StepRecorder : EstimateSink {
+  void cameraFinal(int frame, const SE3&) override { events.push_back("camera " + std::to_string(frame)); }
+  void motionFinal(const ObjectMotionEstimate&) override {}
+  void pointFinal(const PointEstimate&) override {}
+  void cameraStepCovariance(int frame, const Mat6& covariance) override {
+    events.push_back("step " + std::to_string(frame));
+    steps[frame] = covariance;
+  }
+  std::vector<std::string> events;
+  std::map<int, Mat6> steps;
+};
+
+// Odometry alone: each step's covariance is its odometry's (pure translation steps, so the odometry's
+// tangent and the step's agree), whatever the schedule, handed over just before its camera.
+TEST(Estimator, EachCameraStepComesWithItsCovarianceJustBeforeItsCamera) {
+  Vec6 sigma;
+  sigma << 0.01, 0.02, 0.03, 0.001, 0.002, 0.003;
+  std::vector<FrameMeasurement> frames(9);
+  for (int k = 0; k < 9; ++k) {
+    frames[k].frame_index = k;
+    frames[k].t_ns = k * 100'000'000LL;
+    if (k > 0) frames[k].odometry = OdometryMeasurement{SE3(Eigen::Quaterniond::Identity(), Vec3(0.1, 0.0, 1.0)), sigma};
+  }
+  for (const std::string schedule : {"batch", "window:4"}) {
+    BackendParams params;
+    params.schedule = ParseSchedule(schedule);
+    StepRecorder recorder;
+    EstimatorOptions options;
+    options.sink = &recorder;
+    Estimator estimator(params, 10.0, options);
+    for (const auto& f : frames) estimator.addFrame(f);
+    estimator.finish();
+    ASSERT_EQ(recorder.events.size(), 17u) << schedule;  // 9 cameras, 8 steps
+    EXPECT_EQ(recorder.events[0], "camera 0") << schedule;
+    for (int k = 1; k < 9; ++k) {
+      EXPECT_EQ(recorder.events[2 * k - 1], "step " + std::to_string(k)) << schedule;
+      EXPECT_EQ(recorder.events[2 * k], "camera " + std::to_string(k)) << schedule;
+      const Mat6 odometry = sigma.array().square().matrix().asDiagonal();
+      EXPECT_LT((recorder.steps.at(k) - odometry).norm(), 1e-6 * odometry.norm()) << schedule << " step " << k << "\n" << recorder.steps.at(k);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace dslam

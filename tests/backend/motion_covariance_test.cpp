@@ -39,6 +39,7 @@ struct Calibration {
   int pairs = 0;
   double within_1 = 0.0, within_3 = 0.0;
   double mean_nees = 0.0;  // of the 6-dof motions: 6 when the covariance is honest
+  double camera_step_nees = 0.0;  // of the cameras' steps, likewise
 };
 
 Calibration SpeedCalibration(const std::string& schedule, int num_frames) {
@@ -71,8 +72,18 @@ Calibration SpeedCalibration(const std::string& schedule, int num_frames) {
   c.within_1 = static_cast<double>(within_1) / std::max(1, c.pairs);
   c.within_3 = static_cast<double>(within_3) / std::max(1, c.pairs);
   c.mean_nees /= std::max(1, c.pairs);
+  // The cameras' steps: every one but the first frame's carries its covariance.
+  EXPECT_EQ(ours.estimate.camera_step_covariance.size(), seq.frames.size() - 1);
+  for (const auto& [k, covariance] : ours.estimate.camera_step_covariance) {
+    const std::optional<double> nees =
+        CameraStepNees(seq.gt.T_world_camera[k - 1].inverse() * seq.gt.T_world_camera[k],
+                       ours.estimate.T_world_camera[k - 1].inverse() * ours.estimate.T_world_camera[k], covariance);
+    EXPECT_TRUE(nees.has_value()) << "frame " << k;
+    c.camera_step_nees += nees.value_or(0.0) / static_cast<double>(seq.frames.size() - 1);
+  }
   std::cout << schedule << ": speed errors within 1 sigma: " << c.within_1 << ", within 3 sigma: " << c.within_3
-            << ", motion NEES " << c.mean_nees << " (" << c.pairs << " pairs)" << std::endl;
+            << ", motion NEES " << c.mean_nees << " (" << c.pairs << " pairs), camera step NEES "
+            << c.camera_step_nees << std::endl;
   return c;
 }
 
@@ -84,6 +95,8 @@ void ExpectCalibrated(const Calibration& c) {
   // The whole motion's covariance, not only the speed's: NEES within [0.5, 2] x its 6 dimensions.
   EXPECT_GT(c.mean_nees, 3.0);
   EXPECT_LT(c.mean_nees, 12.0);
+  EXPECT_GT(c.camera_step_nees, 3.0);
+  EXPECT_LT(c.camera_step_nees, 12.0);
 }
 
 TEST(MotionCovariance, TheSpeedSigmaOfTheSlidingWindowIsCalibratedOnTheSimulatedCity) {

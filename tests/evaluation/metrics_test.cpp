@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+
 namespace dslam {
 namespace {
 
@@ -193,6 +195,26 @@ TEST(ObjectMetrics, CoverageOverMovingPairsAndOverMeasurableOnes) {
   EXPECT_FALSE(ComputeObjectMetrics({Pair(At(1, 0, 0), At(1, 0, 0), 10.0, 10.0)}).object_coverage_measurable);
 }
 
+
+// A camera step 3 sigma too long along z and turned 1 sigma about x: NEES 9 + 1; only steps with a covariance count.
+TEST(CameraMetrics, StepNeesByHand) {
+  const double sigma_t = 0.02, sigma_r = 0.001;
+  const SE3 step_gt(RotationExp(Vec3(0.0, 0.05, 0.0)), Vec3(0.1, 0.0, 1.0));
+  const SE3 step_est(step_gt.rotation() * RotationExp(Vec3(sigma_r, 0.0, 0.0)),
+                     step_gt.translation() + Vec3(0.0, 0.0, 3.0 * sigma_t));
+  Mat6 covariance = Mat6::Zero();
+  covariance.diagonal() << Vec3::Constant(sigma_t * sigma_t), Vec3::Constant(sigma_r * sigma_r);
+  ASSERT_TRUE(CameraStepNees(step_gt, step_est, covariance));
+  EXPECT_NEAR(*CameraStepNees(step_gt, step_est, covariance), 10.0, 1e-6);
+  EXPECT_FALSE(CameraStepNees(step_gt, step_est, Mat6::Zero()));
+
+  const SE3 T0, T1_gt = step_gt, T1_est = step_est, T2 = step_est * step_est;
+  const std::map<int, Mat6> only_step_1 = {{1, covariance}};
+  const CameraMetrics m = ComputeCameraMetrics({T0, T1_gt, T1_gt * step_gt}, {T0, T1_est, T2}, only_step_1);
+  ASSERT_TRUE(m.camera_step_nees);
+  EXPECT_NEAR(*m.camera_step_nees, 10.0, 1e-6);
+  EXPECT_FALSE(ComputeCameraMetrics({T0, T1_gt}, {T0, T1_est}).camera_step_nees);
+}
 
 // NEES by hand: an error of 2 sigma in x of the anchored translation and 1 sigma about z gives 4 + 1.
 TEST(ObjectMetrics, MotionNeesByHandAboutTheAnchor) {

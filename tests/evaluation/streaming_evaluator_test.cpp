@@ -34,7 +34,10 @@ TEST(StreamingEvaluator, EqualsTheEvaluationOfTheCollectedEstimate) {
   for (const auto& f : labelled) streaming.frameMade(f);
   for (const auto& p : est.points) streaming.pointFinal(p);
   for (const auto& m : est.object_motions) streaming.motionFinal(m);
-  for (int k = 0; k < static_cast<int>(est.T_world_camera.size()); ++k) streaming.cameraFinal(k, est.T_world_camera[k]);
+  for (int k = 0; k < static_cast<int>(est.T_world_camera.size()); ++k) {
+    if (est.camera_step_covariance.count(k)) streaming.cameraStepCovariance(k, est.camera_step_covariance.at(k));
+    streaming.cameraFinal(k, est.T_world_camera[k]);
+  }
   const MethodMetrics got = streaming.metrics();
   const MethodMetrics want = EvaluateEstimate(seq, est, true);
 
@@ -42,6 +45,9 @@ TEST(StreamingEvaluator, EqualsTheEvaluationOfTheCollectedEstimate) {
   EXPECT_NEAR(got.camera.path_length_m, want.camera.path_length_m, 1e-9);
   ExpectNear(got.camera.rte_pct, want.camera.rte_pct, "rte");
   ExpectNear(got.camera.rre_deg_per_m, want.camera.rre_deg_per_m, "rre");
+  EXPECT_EQ(est.camera_step_covariance.size(), est.T_world_camera.size() - 1);  // every step but into frame 0
+  ASSERT_TRUE(want.camera.camera_step_nees);
+  ExpectNear(got.camera.camera_step_nees, want.camera.camera_step_nees, "camera step nees");
   ExpectNear(got.rse_pct, want.rse_pct, "rse");
   ASSERT_TRUE(got.objects && want.objects);
   EXPECT_EQ(got.objects->gt_pairs, want.objects->gt_pairs);
