@@ -6,6 +6,17 @@
 #include <stdexcept>
 
 namespace dslam {
+namespace {
+
+// e^T Cov^-1 e; nullopt when the covariance is unknown (zero) or not positive definite.
+std::optional<double> NormalisedSquare(const Vec6& e, const Mat6& covariance) {
+  if (covariance.isZero(0.0)) return std::nullopt;
+  const Eigen::LDLT<Mat6> ldlt(covariance);
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || (ldlt.vectorD().array() <= 0.0).any()) return std::nullopt;
+  return e.dot(ldlt.solve(e));
+}
+
+}  // namespace
 
 void CameraMetricsAccumulator::add(const SE3& gt, const SE3& est, const Mat6* step_covariance) {
   sum_sq_ate_ += (gt.translation() - est.translation()).squaredNorm();
@@ -25,13 +36,9 @@ void CameraMetricsAccumulator::add(const SE3& gt, const SE3& est, const Mat6* st
 }
 
 std::optional<double> CameraStepNees(const SE3& step_gt, const SE3& step_est, const Mat6& covariance) {
-  const Eigen::LDLT<Mat6> ldlt(covariance);
-  if (covariance.isZero(0.0) || ldlt.info() != Eigen::Success || !ldlt.isPositive() ||
-      (ldlt.vectorD().array() <= 0.0).any())
-    return std::nullopt;
   Vec6 e;
   e << step_est.translation() - step_gt.translation(), RotationLog(step_gt.rotation().conjugate() * step_est.rotation());
-  return e.dot(ldlt.solve(e));
+  return NormalisedSquare(e, covariance);
 }
 
 CameraMetrics CameraMetricsAccumulator::result() const {
@@ -120,16 +127,14 @@ void ObjectMetricsAccumulator::addEstimate(const ObjectPairSample& s) {
 }
 
 std::optional<double> MotionNees(const ObjectPairSample& s) {
-  if (!s.estimated || s.covariance_est.isZero(0.0)) return std::nullopt;
-  const Eigen::LDLT<Mat6> ldlt(s.covariance_est);
-  if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || (ldlt.vectorD().array() <= 0.0).any()) return std::nullopt;
+  if (!s.estimated) return std::nullopt;
   // H about the anchor c: (R, t + R c - c); its tangent error: translation difference, rotation on the right.
   const Vec3& c = s.anchor_est;
   const Vec3 t_gt = s.H_world_gt.translation() + s.H_world_gt.rotation() * c - c;
   const Vec3 t_est = s.H_world_est.translation() + s.H_world_est.rotation() * c - c;
   Vec6 e;
   e << t_est - t_gt, RotationLog(s.H_world_gt.rotation().conjugate() * s.H_world_est.rotation());
-  return e.dot(ldlt.solve(e));
+  return NormalisedSquare(e, s.covariance_est);
 }
 
 ObjectMetrics ObjectMetricsAccumulator::result() const {
