@@ -93,7 +93,7 @@ NetworkRun RunThreeHosts(const std::string& name, double loss_percent, const std
   for (const char* log : {"serve.log", "listen.log", "publish.log"})
     run.logs += std::string("--- ") + log + "\n" + test::ReadFile(dir + "/" + log);
   std::cout << name << ": serve estimated " << run.serve.value("frames", 0) << " of " << kFrames
-            << " frames; display host: " << run.listen.dump() << std::endl;
+            << " frames; serve: " << run.serve.dump() << "; display host: " << run.listen.dump() << std::endl;
   return run;
 }
 
