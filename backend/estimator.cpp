@@ -114,7 +114,8 @@ void Estimator::batchCovariances() {
     window.fix_cameras = fix_cameras;
     window.camera_step_covariance = camera_step;
     window.covariance_only = true;
-    const std::vector<int> ids = motions == motions_by_frame.end() ? std::vector<int>{} : motions->second;
+    static const std::vector<int> kNoMotions;
+    const std::vector<int>& ids = motions == motions_by_frame.end() ? kNoMotions : motions->second;
     for (int id : ids) graph_.motions.at(id).covariance.setZero();
     const WindowSolveSummary summary = SolveWindow(params_, window, &graph_);
     for (int id : ids) covariances[id] = graph_.motions.at(id).covariance;  // later windows overwrite the graph's

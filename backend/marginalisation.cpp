@@ -255,11 +255,7 @@ void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, i
   AccumulateLeavingSmoothness(params, m, graph);  // the motions into m are final: so are their smoothness residuals
   for (auto it = graph->motions.begin(); it != graph->motions.end();)
     it = it->second.last_frame <= m && selected(it->second.object_id) ? graph->motions.erase(it) : std::next(it);
-  // An object with no motion left starts its process noise afresh if it comes back: memory stays bounded.
-  std::unordered_set<int> objects_with_motions;
-  for (const auto& [id, motion] : graph->motions) objects_with_motions.insert(motion.object_id);
-  for (auto it = graph->smoothness_noise.begin(); it != graph->smoothness_noise.end();)
-    it = objects_with_motions.count(it->first) ? std::next(it) : graph->smoothness_noise.erase(it);
+  ForgetObjectsWithoutMotions(graph);
   // What frame m had into it from m-1 was folded into its points at m, which are gone now (those of
   // other objects stay with their points).
   if (which == ObjectWindow::kAll) {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <unordered_set>
 
 #include "backend/factors/motion_smoothness_factor.h"
 
@@ -51,6 +53,14 @@ void AccumulateLeavingSmoothness(const BackendParams& params, int frame, FactorG
     if (graph->motions.at(s.curr_motion_var).last_frame > frame) continue;  // its motion stays
     Add(ConfiguredSmoothnessResidual(params, *graph, s), &graph->smoothness_noise[ObjectOf(*graph, s)].final);
   }
+}
+
+void ForgetObjectsWithoutMotions(FactorGraph* graph) {
+  if (graph->smoothness_noise.empty()) return;  // the option is off, or no object has a scale yet
+  std::unordered_set<int> objects_with_motions;
+  for (const auto& [id, motion] : graph->motions) objects_with_motions.insert(motion.object_id);
+  for (auto it = graph->smoothness_noise.begin(); it != graph->smoothness_noise.end();)
+    it = objects_with_motions.count(it->first) ? std::next(it) : graph->smoothness_noise.erase(it);
 }
 
 double UpdateSmoothnessScales(const BackendParams& params, int first_frame, int last_frame, FactorGraph* graph) {

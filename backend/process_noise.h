@@ -27,6 +27,10 @@ Vec6 ConfiguredSmoothnessResidual(const BackendParams& params, const FactorGraph
 // its object's final statistics (the fixed-lag smoother calls it before it erases those motions).
 void AccumulateLeavingSmoothness(const BackendParams& params, int frame, FactorGraph* graph);
 
+// Drops the process noise of objects with no motion variable left (the smoother let their track go): one that
+// comes back starts afresh, and memory stays bounded by the window.
+void ForgetObjectsWithoutMotions(FactorGraph* graph);
+
 // Re-estimates every object's scales from its final statistics and the smoothness factors of frames
 // [first_frame, last_frame] at the current values. Returns the largest relative change of a scale
 // (0 when nothing changed or the option is off).

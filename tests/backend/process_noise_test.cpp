@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iterator>
 #include <vector>
 
 #include "backend/estimator.h"
@@ -90,6 +91,18 @@ TEST(ProcessNoise, ResidualsOfFactorsThatLeftTheWindowKeepCounting) {
   EXPECT_EQ(smoother.smoothness_noise.at(kWeaver).final.count, 2);  // frames 2 and 3
   UpdateSmoothnessScales(params, 4, 5, &smoother);
   EXPECT_NEAR(smoother.smoothness_noise.at(kWeaver).scale_t, all_in_window.smoothness_noise.at(kWeaver).scale_t, 1e-12);
+}
+
+TEST(ProcessNoise, AnObjectWithNoMotionLeftIsForgottenAndTheOthersKept) {
+  FactorGraph graph = TwoObjectGraph(6);
+  UpdateSmoothnessScales(FromResiduals(), 0, 5, &graph);
+  ASSERT_EQ(graph.smoothness_noise.size(), 2u);
+  for (int k = 0; k < 6; ++k) graph.frame(k).smoothness.clear();
+  for (auto it = graph.motions.begin(); it != graph.motions.end();)
+    it = it->second.object_id == kWeaver ? graph.motions.erase(it) : std::next(it);
+  ForgetObjectsWithoutMotions(&graph);
+  EXPECT_FALSE(graph.smoothness_noise.count(kWeaver));
+  EXPECT_TRUE(graph.smoothness_noise.count(kSteady));
 }
 
 // The city's largest moving object weaves +-0.3 m sideways frame to frame: how far that moves the final
