@@ -62,6 +62,7 @@ MethodResult RunMethod(Method method, const BackendParams& params, double frame_
       tracker.mode_per_object.clear();
       Estimate objects = RunEstimator(tracker, frame_rate_hz, frames, object_stage, {}, nullptr);
       result.estimate.T_world_camera = static_stage.T_world_camera;
+      result.estimate.camera_step_covariance = std::move(static_stage.camera_step_covariance);  // the same cameras
       result.estimate.object_motions = std::move(objects.object_motions);
       result.estimate.points = std::move(static_stage.points);
       result.estimate.points.insert(result.estimate.points.end(), objects.points.begin(), objects.points.end());

@@ -113,8 +113,7 @@ KittiGroundTruthSequence LoadKittiGroundTruth(const std::string& dir_in, const s
   return out;
 }
 
-GroundTruth ToGroundTruth(const KittiGroundTruthSequence& gt, int num_frames, double object_max_range_m,
-                          const std::function<bool(int, int)>& visible) {
+GroundTruth ToUnobservedGroundTruth(const KittiGroundTruthSequence& gt, int num_frames) {
   if (num_frames > static_cast<int>(gt.T_world_camera.size()))
     throw std::invalid_argument("ground truth has " + std::to_string(gt.T_world_camera.size()) + " poses for " +
                                 std::to_string(num_frames) + " frames");
@@ -130,10 +129,26 @@ GroundTruth ToGroundTruth(const KittiGroundTruthSequence& gt, int num_frames, do
       if (k >= num_frames) continue;
       o.L_world_object[k] = out.T_world_camera[k] * T_camera_object;
       o.centroid_world[k] = o.L_world_object[k] * centroid_body;
-      if ((T_camera_object * centroid_body).norm() < object_max_range_m && visible(k, id)) o.observed_frames.insert(k);
     }
     if (!o.L_world_object.empty()) out.objects[id] = std::move(o);
   }
+  return out;
+}
+
+void ObserveFrame(int frame, double object_max_range_m, const std::function<bool(int, int)>& visible, GroundTruth* gt) {
+  const SE3 T_camera_world = gt->T_world_camera.at(frame).inverse();
+  for (auto& [id, o] : gt->objects) {
+    const auto centroid = o.centroid_world.find(frame);
+    if (centroid == o.centroid_world.end()) continue;
+    if ((T_camera_world * centroid->second).norm() < object_max_range_m && visible(frame, id))
+      o.observed_frames.insert(frame);
+  }
+}
+
+GroundTruth ToGroundTruth(const KittiGroundTruthSequence& gt, int num_frames, double object_max_range_m,
+                          const std::function<bool(int, int)>& visible) {
+  GroundTruth out = ToUnobservedGroundTruth(gt, num_frames);
+  for (int k = 0; k < num_frames; ++k) ObserveFrame(k, object_max_range_m, visible, &out);
   return out;
 }
 

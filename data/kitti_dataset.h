@@ -45,5 +45,9 @@ KittiGroundTruthSequence LoadKittiGroundTruth(const std::string& dir, const std:
 // `visible(k, object_id)` says the sensor saw it (e.g. its instance mask is large enough).
 GroundTruth ToGroundTruth(const KittiGroundTruthSequence& gt, int num_frames, double object_max_range_m,
                           const std::function<bool(int, int)>& visible);
+// The same in two steps, for a run that learns what it saw frame by frame: every object unobserved, then
+// ObserveFrame(k, ...) for each frame k in turn marks the objects observed in it as ToGroundTruth does.
+GroundTruth ToUnobservedGroundTruth(const KittiGroundTruthSequence& gt, int num_frames);
+void ObserveFrame(int frame, double object_max_range_m, const std::function<bool(int, int)>& visible, GroundTruth* gt);
 
 }  // namespace dslam

@@ -52,6 +52,14 @@ int RunObjectId(const GroundTruth& gt, int gt_id, int frame) {
   return now->second;
 }
 
+std::optional<int> GroundTruthIdOf(const GroundTruth& gt, int run_id, int frame) {
+  if (!gt.run_object_ids) return run_id;
+  if (run_id == 0) return std::nullopt;  // RunObjectId's "no estimate"
+  for (const auto& [gt_id, obj] : gt.objects)
+    if (RunObjectId(gt, gt_id, frame) == run_id) return gt_id;
+  return std::nullopt;
+}
+
 std::vector<ObjectPairSample> BuildObjectSamples(const Sequence& seq, const Estimate& est, const std::string& category) {
   std::map<std::pair<int, int>, const ObjectMotionEstimate*> by_key;
   for (const auto& m : est.object_motions) by_key[{m.object_id, m.frame}] = &m;

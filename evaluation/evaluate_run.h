@@ -26,6 +26,9 @@ std::optional<ObjectPairSample> GroundTruthPair(const GroundTruth& gt, double fr
 // when the run's ids are the ground truth's; else the id the run gave it in both frames, or 0 (no estimate of
 // it) when the run had it in one of them only, or under two ids (its track restarted, or it took another's).
 int RunObjectId(const GroundTruth& gt, int gt_id, int frame);
+// The inverse: the ground-truth object the run's object `run_id` is over frame - 1 -> frame (RunObjectId of
+// it is `run_id`), or nullopt when none is.
+std::optional<int> GroundTruthIdOf(const GroundTruth& gt, int run_id, int frame);
 
 // Fills the sample's estimate fields from `motion`.
 void SetEstimate(const ObjectMotionEstimate& motion, ObjectPairSample* sample);

@@ -11,18 +11,19 @@ StreamingEvaluator::StreamingEvaluator(const GroundTruth& gt, double frame_rate_
   T_world_camera_est_.reserve(gt.T_world_camera.size());
 }
 
-void StreamingEvaluator::frameMade(const FrameMeasurement& frame) {
-  if (frame.frame_index != frames_made_)
-    throw std::logic_error("evaluation: frame " + std::to_string(frame.frame_index) + " made after frame " +
+void StreamingEvaluator::frameMade(int frame) {
+  if (frame != frames_made_)
+    throw std::logic_error("evaluation: frame " + std::to_string(frame) + " made after frame " +
                            std::to_string(frames_made_ - 1));
   ++frames_made_;
   if (!estimates_objects_) return;
-  for (const ObjectObservation& obs : frame.objects) {
-    const std::optional<ObjectPairSample> pair = GroundTruthPair(gt_, frame_rate_hz_, obs.object_id, frame.frame_index);
+  // Every ground-truth pair ending here, measured or not (as EvaluateEstimate counts them).
+  for (const auto& [id, obj] : gt_.objects) {
+    if (!obj.observed_frames.count(frame)) continue;
+    const std::optional<ObjectPairSample> pair = GroundTruthPair(gt_, frame_rate_hz_, id, frame);
     if (!pair) continue;
-    const std::string& category = gt_.objects.at(obs.object_id).category;
-    summaries_.addPair(*pair, category);
-    if (category_.empty() || category == category_) objects_.addPair(*pair);
+    summaries_.addPair(*pair, obj.category);
+    if (category_.empty() || obj.category == category_) objects_.addPair(*pair);
   }
 }
 
@@ -58,11 +59,13 @@ void StreamingEvaluator::addPoint(const PointEstimate& p) {
 
 void StreamingEvaluator::motionFinal(const ObjectMotionEstimate& motion) {
   if (!estimates_objects_) return;
-  std::optional<ObjectPairSample> sample = GroundTruthPair(gt_, frame_rate_hz_, motion.object_id, motion.frame);
+  const std::optional<int> gt_id = GroundTruthIdOf(gt_, motion.object_id, motion.frame);
+  if (!gt_id) return;
+  std::optional<ObjectPairSample> sample = GroundTruthPair(gt_, frame_rate_hz_, *gt_id, motion.frame);
   if (!sample) return;
   SetEstimate(motion, &*sample);
   summaries_.addEstimate(*sample);
-  if (category_.empty() || gt_.objects.at(motion.object_id).category == category_) objects_.addEstimate(*sample);
+  if (category_.empty() || gt_.objects.at(*gt_id).category == category_) objects_.addEstimate(*sample);
 }
 
 MethodMetrics StreamingEvaluator::metrics() const {

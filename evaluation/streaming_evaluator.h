@@ -22,9 +22,10 @@ class StreamingEvaluator : public EstimateSink {
   // empty; the per-object summaries cover every object.
   StreamingEvaluator(const GroundTruth& gt, double frame_rate_hz, bool estimates_objects, std::string category = "");
 
-  // Call once per frame, in order, once the ground truth knows which objects the frame saw: counts the
-  // object pairs that end in it.
-  void frameMade(const FrameMeasurement& frame);
+  // Call once per frame, in order, once the ground truth knows which objects the frame saw (and, with
+  // GroundTruth::run_object_ids, which run object each is): counts the object pairs that end in it.
+  void frameMade(int frame);
+  void frameMade(const FrameMeasurement& frame) { frameMade(frame.frame_index); }
 
   void cameraFinal(int frame, const SE3& T_world_camera) override;
   void motionFinal(const ObjectMotionEstimate& motion) override;

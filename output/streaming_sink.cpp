@@ -82,10 +82,13 @@ void StreamingFileSink::motionFinal(const ObjectMotionEstimate& m) {
   if (!files_.object_tables) return;
   std::optional<ObjectPairSample> pair;
   if (gt_) {
-    pair = GroundTruthPair(*gt_, frame_rate_hz_, m.object_id, m.frame);
+    // With the run's own object ids, the row keeps the run's id and carries the ground truth of the object
+    // it was found to be (as WriteRunOutputs writes it).
+    const std::optional<int> gt_id = GroundTruthIdOf(*gt_, m.object_id, m.frame);
+    if (gt_id) pair = GroundTruthPair(*gt_, frame_rate_hz_, *gt_id, m.frame);
     if (pair) {
-      std::vector<bool>& bits = estimated_[m.object_id];
-      const size_t i = static_cast<size_t>(m.frame - FirstPoseFrame(*gt_, m.object_id));
+      std::vector<bool>& bits = estimated_[*gt_id];
+      const size_t i = static_cast<size_t>(m.frame - FirstPoseFrame(*gt_, *gt_id));
       if (bits.size() <= i) bits.resize(i + 1, false);
       bits[i] = true;
     }
@@ -131,7 +134,8 @@ void StreamingFileSink::flush() {
 
 void StreamingFileSink::finish() {
   writeLandmarksSeenBefore(std::numeric_limits<int>::max());
-  if (gt_ && files_.object_tables) {
+  // Pairs without estimate have no row when the run's object ids are its own: there is no id to give them.
+  if (gt_ && files_.object_tables && !gt_->run_object_ids) {
     open();
     for (const auto& [id, obj] : gt_->objects) {
       const auto bits = estimated_.find(id);
