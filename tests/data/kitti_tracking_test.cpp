@@ -220,5 +220,29 @@ TEST(KittiDataset, MissingFilesAreClearErrors) {
   fs::remove_all(dir);
 }
 
+// A car 10 m ahead, then 30 m ahead (beyond a 22 m range), labelled in frames 0-3; its mask is too small in frame 1.
+TEST(KittiGroundTruth, AnObjectIsObservedWhereItIsInRangeAndSeenAndFrameByFrameAsAtOnce) {
+  KittiGroundTruthSequence kitti;
+  KittiObjectTrack car;
+  car.object_id = 4;
+  car.h = 1.5, car.w = 1.6, car.l = 4.0;
+  for (int k = 0; k < 4; ++k) {
+    kitti.T_world_camera.push_back(SE3(Mat3::Identity(), Vec3(0.0, 0.0, k)));
+    car.T_camera_object[k] = SE3(Mat3::Identity(), Vec3(0.0, 0.0, k < 2 ? 10.0 : 30.0));
+  }
+  kitti.objects[4] = car;
+  const auto visible = [](int k, int id) { return id == 4 && k != 1; };
+  const GroundTruth at_once = ToGroundTruth(kitti, 4, 22.0, visible);
+  ASSERT_EQ(at_once.objects.count(4), 1u);
+  EXPECT_EQ(at_once.objects.at(4).observed_frames, (std::set<int>{0}));
+  EXPECT_EQ(at_once.objects.at(4).L_world_object.size(), 4u);
+
+  GroundTruth by_frame = ToUnobservedGroundTruth(kitti, 4);
+  EXPECT_TRUE(by_frame.objects.at(4).observed_frames.empty());
+  for (int k = 0; k < 4; ++k) ObserveFrame(k, 22.0, visible, &by_frame);
+  EXPECT_EQ(by_frame.objects.at(4).observed_frames, at_once.objects.at(4).observed_frames);
+  EXPECT_THROW(ToUnobservedGroundTruth(kitti, 5), std::invalid_argument);  // more frames than poses
+}
+
 }  // namespace
 }  // namespace dslam

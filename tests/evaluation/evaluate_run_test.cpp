@@ -64,6 +64,20 @@ TEST(EvaluateRun, ARunsOwnObjectIdsAreMatchedToTheGroundTruthFrameByFrame) {
   EXPECT_EQ(RunObjectId(seq.gt, 7, 1), 3);
 }
 
+// The inverse map, which a stream uses to find the ground truth of each run motion as it arrives.
+TEST(EvaluateRun, ARunsObjectIsFoundInTheGroundTruthPairByPair) {
+  Sequence seq = CarDrivingAlongX();
+  EXPECT_EQ(GroundTruthIdOf(seq.gt, 7, 2), 7);  // no mapping: the run's ids are the ground truth's
+  EXPECT_EQ(GroundTruthIdOf(seq.gt, 3, 2), 3);
+  seq.gt.run_object_ids.emplace();
+  for (int k = 0; k <= 4; ++k) (*seq.gt.run_object_ids)[{k, 7}] = k < 4 ? 3 : 5;
+  EXPECT_EQ(GroundTruthIdOf(seq.gt, 3, 2), 7);
+  EXPECT_EQ(GroundTruthIdOf(seq.gt, 3, 4), std::nullopt);  // the pair 3 -> 4 changed id: no run object is it
+  EXPECT_EQ(GroundTruthIdOf(seq.gt, 5, 4), std::nullopt);
+  EXPECT_EQ(GroundTruthIdOf(seq.gt, 9, 2), std::nullopt);  // an object the ground truth does not have
+  EXPECT_EQ(GroundTruthIdOf(seq.gt, 0, 2), std::nullopt);  // 0 is RunObjectId's "no estimate", never an object
+}
+
 TEST(EvaluateRun, WithoutAMappingTheGroundTruthIdsAreTheRuns) {
   const Sequence seq = CarDrivingAlongX();
   EXPECT_EQ(RunObjectId(seq.gt, 7, 3), 7);
