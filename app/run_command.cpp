@@ -5,25 +5,26 @@
 #include <chrono>
 #include <exception>
 #include <fstream>
+#include <set>
 
 #include "output/frame_overlay.h"
 #include "output/object_summary.h"
-#include "output/streaming_sink.h"
+#include "output/run_report.h"
 #include "output/whole_line_file.h"
 #include "pipeline/image_run.h"
-#include "pipeline/run_sequence.h"
 
 namespace dslam {
 namespace {
 
 // A few frames with each object's mask, id and speed drawn on them (frame_NNNNNN.png), for the report.
-void WriteFrameOverlays(const ImageDataset& dataset, const RunConfig& config, const Estimate& ours, int frames,
+void WriteFrameOverlays(const ImageDataset& dataset, const RunConfig& config,
+                        const std::vector<ObjectMotionEstimate>& motions, const std::set<int>& frames,
                         const std::string& dir) {
-  for (int k : OverlayFrames(frames, 4)) {
+  for (int k : frames) {
     ImageFrame frame = dataset.read(k);
     ApplyMaskSource(config.masks, dataset.camera(), frame);
     std::vector<ObjectMotionEstimate> here;
-    for (const ObjectMotionEstimate& m : ours.object_motions)
+    for (const ObjectMotionEstimate& m : motions)
       if (m.frame == k) here.push_back(m);
     char name[32];
     std::snprintf(name, sizeof name, "/frame_%06d.png", k);
@@ -55,12 +56,14 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
           << dataset.frameRateHz() << " Hz (" << dataset.frameRateSource() << ")" << std::endl;
     for (const std::string& warning : dataset.warnings()) err << "dslam run: warning: " << warning << std::endl;
 
-    ImageRunSummary summary;
     const std::string log_path = options.out_dir + "/frontend.csv";
     WholeLineFile frame_log(log_path);  // whole rows on disk whatever ends the run
     if (!frame_log) throw std::runtime_error("cannot write " + log_path);
-    RunSequenceOptions run;
+    ImageRunOptions run;
+    run.max_frames = options.frames;
+    run.out_dir = options.out_dir;
     run.progress = options.quiet ? nullptr : &out;
+    run.frame_log = &frame_log;
     run.object_category = options.category;
     run.methods.clear();
     for (Method m : {Method::kOurs, Method::kStaticOnly, Method::kSlamMot})
@@ -68,22 +71,22 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
         run.methods.push_back(m);
     if (run.methods.empty()) throw std::invalid_argument("--methods names no method (ours, static_only, slam_mot)");
     const bool with_ours = std::find(run.methods.begin(), run.methods.end(), Method::kOurs) != run.methods.end();
+    const int frames = options.frames > 0 ? std::min(options.frames, dataset.size()) : dataset.size();
+    const bool overlays = with_ours && (dataset.hasMasks() || config.masks.source != MaskSourceKind::kDataset);
+    if (overlays)
+      for (int k : OverlayFrames(frames, 4)) run.keep_motions_of.insert(k);
 
-    // Ours runs online, its back-end in parallel with the front-end; the baselines run afterwards.
-    // Its result files grow as the estimates leave the window (a crash loses only the window); they are
-    // written again whole, with the ground truth, at the end.
-    MethodResult ours;
-    StreamingFileSink stream(options.out_dir);
-    const Sequence seq = RunImageFrontend(dataset, config, options.frames, options.quiet ? nullptr : &out, &summary,
-                                          &frame_log, with_ours ? &ours : nullptr, with_ours ? &stream : nullptr);
-    if (with_ours) run.precomputed[Method::kOurs] = std::move(ours);
-    run.evaluate = summary.has_ground_truth;
-    const MethodOutcomes outcomes = RunSequence(seq, config, run);
+    // One stream: the front-end and the methods (ours and the baselines in lockstep) run in parallel; the
+    // result files grow as the estimates become final (a crash loses only the window), and the metrics
+    // are summed as they do.
+    const ImageRunResult result = RunImageStreamed(dataset, config, run);
+    const ImageRunSummary& summary = result.summary;
+    const MethodOutcomes& outcomes = result.outcomes;
 
     nlohmann::json info = RunInfo("run", options, config);
     info["dataset"] = options.dataset_dir;
     info["layout"] = dataset.layout();
-    info["frames"] = seq.frames.size();
+    info["frames"] = summary.frames;
     info["frame_rate_hz"] = dataset.frameRateHz();  // what speeds were measured at, and from where
     info["frame_rate_source"] = dataset.frameRateSource();
     info["flow_method"] = ToString(config.frontend.flow.method);
@@ -98,10 +101,8 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
                         {"median_fb_error_px", summary.median_fb_error_px}};
     if (!summary.latency.empty()) info["latency_ms"] = LatencyJson(summary.latency);
     info["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    WriteRunOutputs(options.out_dir, seq, outcomes, info);
-    if (with_ours && (dataset.hasMasks() || config.masks.source != MaskSourceKind::kDataset))
-      WriteFrameOverlays(dataset, config, outcomes.at(Method::kOurs).result.estimate, static_cast<int>(seq.frames.size()),
-                         options.out_dir);
+    WriteMetricsJson(options.out_dir, outcomes, info);
+    if (overlays) WriteFrameOverlays(dataset, config, result.kept_motions, run.keep_motions_of, options.out_dir);
 
     out << "Front-end: " << summary.frontend_ms_per_frame << " ms/frame (reading " << summary.read_ms_per_frame
         << " ms/frame), " << summary.mean_static_tracks << " static and " << summary.mean_object_points
@@ -119,7 +120,7 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
                                               std::to_string(static_cast<int>(config.frontend.object_max_distance_m)) +
                                               " m, mode " + ToString(config.backend.default_mode) + ")");
       if (outcomes.count(Method::kOurs))
-        out << FormatObjectTable(SummariseObjects(seq, outcomes.at(Method::kOurs).result.estimate), "Per object (ours)");
+        out << FormatObjectTable(result.ours_objects, "Per object (ours)");
     } else {
       out << "No ground truth in " << options.dataset_dir << ": estimates written without metrics" << std::endl;
     }

@@ -14,7 +14,6 @@
 #include "output/result_reader.h"
 #include "output/whole_file.h"
 #include "pipeline/image_run.h"
-#include "pipeline/run_sequence.h"
 #include "render/figures.h"
 #include "render/headless_display.h"
 
@@ -205,14 +204,11 @@ int RunStudyCommand(const StudyCommandOptions& options, std::ostream& out, std::
         if (degraded) f.instance_ids = degrader->degrade(f.frame_index, f.instance_ids).ids;
       });
       if (degraded) data.setGroundTruth(GroundTruthWithDegradedIds(*exact.groundTruth(), source_of));
-      RunSequenceOptions run;
-      MethodResult ours;
-      ImageRunSummary summary;
-      const Sequence seq = RunImageFrontend(data, config, frames, nullptr, &summary, nullptr, &ours, nullptr);
-      run.precomputed[Method::kOurs] = std::move(ours);
+      ImageRunOptions run;
+      run.max_frames = frames;
       SettingResult r;
       r.setting = setting;
-      r.outcomes = RunSequence(seq, config, run);
+      r.outcomes = RunImageStreamed(data, config, run).outcomes;
       if (degraded) r.miou = segmentation.miou(), r.detection_rate = segmentation.detectionRate();
       r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       if (!options.quiet) {

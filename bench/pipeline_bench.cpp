@@ -112,9 +112,11 @@ int main(int argc, char** argv) {
       staged.push_back(frames / SecondsSince(t0));
     }
     {
-      dslam::MethodResult ours;
+      dslam::ImageRunOptions run;
+      run.methods = {dslam::Method::kOurs};
+      run.max_frames = frames;
       const auto t0 = Clock::now();
-      dslam::RunImageFrontend(data, config, frames, nullptr, nullptr, nullptr, &ours);
+      dslam::RunImageStreamed(data, config, run);
       from_files.push_back(frames / SecondsSince(t0));
     }
   }

@@ -2,11 +2,18 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <set>
 
 #include "data/frame_timing.h"
+#include "data/kitti_dataset.h"
+#include "output/object_summary.h"
+#include "pipeline/method_output.h"
 #include "pipeline/reference_objects.h"
 #include "pipeline/staged_pipeline.h"
 
@@ -27,8 +34,8 @@ class FrontendRecorder {
   void useReferenceMasks(ReferenceObjectMatcher* matcher) { reference_ = matcher; }
 
   void record(const FrameMeasurement& m, const FrontendFrameStats& st, double frontend_ms) {
-    const int k = static_cast<int>(seq_->frames.size());
-    seq_->frames.push_back(m);
+    const int k = frames_recorded_++;
+    if (seq_) seq_->frames.push_back(m);
     frontend_ms_ += frontend_ms;
     if (reference_)
       reference_->match(k, m);
@@ -68,11 +75,21 @@ class FrontendRecorder {
     return reference_ ? reference_->visible(k, label) : visible_.count({k, label}) > 0;
   }
 
+  // Marks in `gt` what frame k (recorded) saw, and with reference masks which run object each is.
+  void observe(int k, double object_max_range_m, GroundTruth* gt) const {
+    ObserveFrame(k, object_max_range_m, [&](int frame, int id) { return visible(frame, id); }, gt);
+    if (!reference_) return;
+    if (!gt->run_object_ids) gt->run_object_ids.emplace();
+    const auto& ids = reference_->runObjectIds();
+    for (auto it = ids.lower_bound({k, std::numeric_limits<int>::min()}); it != ids.end() && it->first.first == k; ++it)
+      gt->run_object_ids->insert(*it);
+  }
+
   void setLatency(std::vector<StageLatencySummary> latency) { s_.latency = std::move(latency); }
 
   ImageRunSummary summary(double read_s) {
     ImageRunSummary s = s_;
-    const int frames = static_cast<int>(seq_->frames.size());
+    const int frames = frames_recorded_;
     s.frames = frames;
     if (frames > 0) {
       s.frontend_ms_per_frame = frontend_ms_ / frames;
@@ -93,7 +110,8 @@ class FrontendRecorder {
   std::ostream* progress_;
   std::mutex* progress_mutex_;
   std::ostream* frame_log_;
-  Sequence* seq_;
+  Sequence* seq_;  // null: the measurements are not kept
+  int frames_recorded_ = 0;
   const Clock::time_point start_ = Clock::now();
   std::set<std::pair<int, int>> visible_;  // (frame, mask label) large enough to be an object
   ReferenceObjectMatcher* reference_ = nullptr;
@@ -102,73 +120,100 @@ class FrontendRecorder {
   double frontend_ms_ = 0.0;
 };
 
+// Reads frame k of the dataset and puts the configured masks on it; with reference masks (the dataset's
+// own, when the run makes its own), keeps the dataset's for the matcher.
+class FrameReader {
+ public:
+  FrameReader(const ImageDataset& dataset, const RunConfig& config, FrontendRecorder* recorder)
+      : dataset_(dataset), masks_(config.masks) {
+    if (config.masks.source != MaskSourceKind::kDataset && dataset.groundTruth() && dataset.hasMasks()) {
+      reference_.emplace(dataset.camera(), config.frontend.min_mask_area_pct);
+      recorder->useReferenceMasks(&*reference_);
+    }
+  }
+  ImageFrame read(int k) {
+    ImageFrame frame = dataset_.read(k);
+    if (reference_ && !frame.instance_ids.empty()) reference_->keep(k, frame.instance_ids);
+    ApplyMaskSource(masks_, dataset_.camera(), frame);
+    return frame;
+  }
+  const ReferenceObjectMatcher* reference() const { return reference_ ? &*reference_ : nullptr; }
+
+ private:
+  const ImageDataset& dataset_;
+  MaskSourceParams masks_;
+  std::optional<ReferenceObjectMatcher> reference_;
+};
+
+// Hands every call to `sink` with `mutex` held: the methods' outputs are fed from the back-end thread
+// while the front-end thread adds what each frame saw to the ground truth they read.
+class LockedSink : public EstimateSink {
+ public:
+  LockedSink(EstimateSink* sink, std::mutex* mutex) : sink_(sink), mutex_(mutex) {}
+  void cameraFinal(int frame, const SE3& T_world_camera) override {
+    std::lock_guard<std::mutex> lock(*mutex_);
+    sink_->cameraFinal(frame, T_world_camera);
+  }
+  void motionFinal(const ObjectMotionEstimate& motion) override {
+    std::lock_guard<std::mutex> lock(*mutex_);
+    sink_->motionFinal(motion);
+  }
+  void pointFinal(const PointEstimate& point) override {
+    std::lock_guard<std::mutex> lock(*mutex_);
+    sink_->pointFinal(point);
+  }
+  void cameraStepCovariance(int frame, const Mat6& covariance) override {
+    std::lock_guard<std::mutex> lock(*mutex_);
+    sink_->cameraStepCovariance(frame, covariance);
+  }
+
+ private:
+  EstimateSink* sink_;
+  std::mutex* mutex_;
+};
+
+// Ours' final motions of the frames the caller asked for (the report's overlays).
+class KeptMotions : public EstimateSink {
+ public:
+  explicit KeptMotions(const std::set<int>& frames) : frames_(frames) {}
+  void cameraFinal(int, const SE3&) override {}
+  void motionFinal(const ObjectMotionEstimate& motion) override {
+    if (frames_.count(motion.frame)) kept.push_back(motion);
+  }
+  void pointFinal(const PointEstimate&) override {}
+  std::vector<ObjectMotionEstimate> kept;
+
+ private:
+  const std::set<int>& frames_;
+};
+
+int FramesToRun(const ImageDataset& dataset, int max_frames) {
+  return max_frames > 0 ? std::min(max_frames, dataset.size()) : dataset.size();
+}
+
 }  // namespace
 
 Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, int max_frames, std::ostream* progress,
-                          ImageRunSummary* summary, std::ostream* frame_log, MethodResult* ours,
-                          StreamingFileSink* stream) {
+                          ImageRunSummary* summary, std::ostream* frame_log) {
   config.validate();
-  const int frames = max_frames > 0 ? std::min(max_frames, dataset.size()) : dataset.size();
+  const int frames = FramesToRun(dataset, max_frames);
   Sequence seq;
   seq.name = dataset.name();
   seq.frame_rate_hz = dataset.frameRateHz();
   std::mutex progress_mutex;
   FrontendRecorder recorder(frames, progress, &progress_mutex, frame_log, &seq);
-  std::optional<ReferenceObjectMatcher> reference;
-  if (config.masks.source != MaskSourceKind::kDataset && dataset.groundTruth() && dataset.hasMasks()) {
-    reference.emplace(dataset.camera(), config.frontend.min_mask_area_pct);
-    recorder.useReferenceMasks(&*reference);
-  }
-  // Reads frame k and puts the configured masks on it (keeping the dataset's own when they are the reference).
-  const auto read = [&](int k) {
-    ImageFrame frame = dataset.read(k);
-    if (reference && !frame.instance_ids.empty()) reference->keep(k, frame.instance_ids);
-    ApplyMaskSource(config.masks, dataset.camera(), frame);
-    return frame;
-  };
+  FrameReader reader(dataset, config, &recorder);
+  FrontendParams frontend_params = config.frontend;
+  frontend_params.frame_interval_s = 1.0 / dataset.frameRateHz();
+  ImageFrontend frontend(frontend_params, dataset.camera());
   double read_s = 0.0;
-
-  if (ours) {
-    // Frames wait at most this many deep before each stage: enough to ride out a slow frame.
-    constexpr size_t kQueueCapacity = 4;
-    StagedPipelineCallbacks callbacks;
-    callbacks.on_measurement = [&](const FrameMeasurement& m, const FrontendFrameStats& st, double ms) {
-      recorder.record(m, st, ms);
-    };
-    const int step = std::max(1, frames / 10);
-    StageLatency latency;
-    callbacks.on_estimate = [&](const FrameEstimate& e, const FrameMeasurement&, const FrameTiming& timing) {
-      FrameTiming t = timing;
-      t.published_ns = SteadyClockNs();
-      latency.add(t);
-      if (progress && ((e.frame + 1) % step == 0 || e.frame + 1 == frames)) {
-        std::lock_guard<std::mutex> lock(progress_mutex);
-        *progress << "  ours: frame " << e.frame + 1 << "/" << frames << std::endl;
-      }
-    };
-    StagedPipeline pipeline(config, dataset.camera(), dataset.frameRateHz(), kQueueCapacity, callbacks, stream);
-    for (int k = 0; k < frames; ++k) {
-      const int64_t received_ns = SteadyClockNs();
-      ImageFrame frame = read(k);
-      frame.timing.received_ns = received_ns;
-      frame.timing.assembled_ns = SteadyClockNs();
-      read_s += 1e-9 * static_cast<double>(frame.timing.assembled_ns - received_ns);
-      if (!pipeline.push(std::move(frame))) break;  // a stage failed: finish() throws its error
-    }
-    *ours = pipeline.finish();
-    recorder.setLatency(latency.summary());
-  } else {
-    FrontendParams frontend_params = config.frontend;
-    frontend_params.frame_interval_s = 1.0 / dataset.frameRateHz();
-    ImageFrontend frontend(frontend_params, dataset.camera());
-    for (int k = 0; k < frames; ++k) {
-      const auto t0 = Clock::now();
-      ImageFrame frame = read(k);
-      const auto t1 = Clock::now();
-      const FrameMeasurement m = frontend.process(frame);
-      read_s += std::chrono::duration<double>(t1 - t0).count();
-      recorder.record(m, frontend.lastStats(), 1000.0 * SecondsSince(t1));
-    }
+  for (int k = 0; k < frames; ++k) {
+    const auto t0 = Clock::now();
+    ImageFrame frame = reader.read(k);
+    const auto t1 = Clock::now();
+    const FrameMeasurement m = frontend.process(frame);
+    read_s += std::chrono::duration<double>(t1 - t0).count();
+    recorder.record(m, frontend.lastStats(), 1000.0 * SecondsSince(t1));
   }
 
   ImageRunSummary s = recorder.summary(read_s);
@@ -176,10 +221,104 @@ Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, 
     s.has_ground_truth = true;
     seq.gt = ToGroundTruth(*dataset.groundTruth(), frames, config.frontend.object_max_distance_m,
                            [&](int k, int id) { return recorder.visible(k, id); });
-    if (reference) seq.gt.run_object_ids = reference->runObjectIds();
+    if (const ReferenceObjectMatcher* reference = reader.reference()) seq.gt.run_object_ids = reference->runObjectIds();
   }
   if (summary) *summary = s;
   return seq;
+}
+
+ImageRunResult RunImageStreamed(const ImageDataset& dataset, const RunConfig& config, const ImageRunOptions& options) {
+  config.validate();
+  if (options.methods.empty()) throw std::invalid_argument("the run names no method");
+  const int frames = FramesToRun(dataset, options.max_frames);
+  const double rate = dataset.frameRateHz();
+  if (!options.out_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(options.out_dir, ec);
+    if (ec) throw std::runtime_error("cannot create output directory " + options.out_dir + ": " + ec.message());
+  }
+  std::mutex progress_mutex;
+  FrontendRecorder recorder(frames, options.progress, &progress_mutex, options.frame_log, nullptr);
+  FrameReader reader(dataset, config, &recorder);
+
+  // The ground truth learns frame by frame what the front-end saw; it and the outputs that read it are
+  // guarded by one mutex (the front-end thread writes, the back-end thread's sinks read).
+  std::mutex outputs_mutex;
+  std::optional<GroundTruth> gt;
+  if (dataset.groundTruth()) gt = ToUnobservedGroundTruth(*dataset.groundTruth(), frames);
+  std::map<Method, std::unique_ptr<MethodOutput>> outputs;
+  std::vector<std::unique_ptr<EstimateSink>> wrappers;
+  std::map<Method, EstimateSink*> sinks;
+  KeptMotions kept(options.keep_motions_of);
+  for (Method method : options.methods) {
+    auto& output = outputs[method];
+    if (output) continue;
+    output = std::make_unique<MethodOutput>(method, options.out_dir, gt ? &*gt : nullptr, rate, options.object_category);
+    EstimateSink* sink = output.get();
+    if (method == Method::kOurs && !options.keep_motions_of.empty())
+      sink = wrappers.emplace_back(std::make_unique<TeeSink>(sink, &kept)).get();
+    sinks[method] = wrappers.emplace_back(std::make_unique<LockedSink>(sink, &outputs_mutex)).get();
+  }
+  std::vector<int64_t> t_ns;  // a stamp a frame, for the ground truth's trajectory file
+  t_ns.reserve(frames);
+
+  // Frames wait at most this many deep before each stage: enough to ride out a slow frame.
+  constexpr size_t kQueueCapacity = 4;
+  StagedPipelineCallbacks callbacks;
+  callbacks.on_measurement = [&](const FrameMeasurement& m, const FrontendFrameStats& st, double ms) {
+    recorder.record(m, st, ms);
+    std::lock_guard<std::mutex> lock(outputs_mutex);
+    if (gt) recorder.observe(m.frame_index, config.frontend.object_max_distance_m, &*gt);
+    t_ns.push_back(m.t_ns);
+    for (auto& [method, output] : outputs) output->frameMade(m.frame_index, m.t_ns);
+  };
+  const int step = std::max(1, frames / 10);
+  StageLatency latency;
+  const bool with_ours = outputs.count(Method::kOurs) > 0;
+  callbacks.on_estimate = [&](const FrameEstimate& e, const FrameMeasurement&, const FrameTiming& timing) {
+    if (with_ours) {
+      std::lock_guard<std::mutex> lock(outputs_mutex);
+      outputs.at(Method::kOurs)->onlinePose(e.t_ns, e.T_world_camera);
+    }
+    FrameTiming t = timing;
+    t.published_ns = SteadyClockNs();
+    latency.add(t);
+    if (options.progress && ((e.frame + 1) % step == 0 || e.frame + 1 == frames)) {
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      *options.progress << "  methods: frame " << e.frame + 1 << "/" << frames << std::endl;
+    }
+  };
+  // Ours always runs in the back-end stage (its estimate is each frame's); without a sink of its own its
+  // estimates are discarded.
+  StagedPipeline pipeline(config, dataset.camera(), rate, kQueueCapacity, callbacks, nullptr, /*collect=*/false, sinks);
+  double read_s = 0.0;
+  for (int k = 0; k < frames; ++k) {
+    const int64_t received_ns = SteadyClockNs();
+    ImageFrame frame = reader.read(k);
+    frame.timing.received_ns = received_ns;
+    frame.timing.assembled_ns = SteadyClockNs();
+    read_s += 1e-9 * static_cast<double>(frame.timing.assembled_ns - received_ns);
+    if (!pipeline.push(std::move(frame))) break;  // a stage failed: finish() throws its error
+  }
+  pipeline.finish();
+
+  ImageRunResult result;
+  result.summary = recorder.summary(read_s);
+  result.summary.latency = latency.summary();
+  result.summary.has_ground_truth = gt.has_value();
+  for (auto& [method, output] : outputs) {
+    output->finish();
+    MethodOutcome& outcome = result.outcomes[method];
+    outcome.metrics = output->metrics();
+    outcome.result.wall_time_s = pipeline.wallTimeS(method);
+    if (method == Method::kOurs) result.ours_objects = output->objects();
+  }
+  result.kept_motions = std::move(kept.kept);
+  if (!options.out_dir.empty()) {
+    WriteGroundTruthFiles(options.out_dir, gt ? *gt : GroundTruth{}, t_ns);
+    if (with_ours) WriteObjectsCsv(options.out_dir + "/objects.csv", result.ours_objects);
+  }
+  return result;
 }
 
 }  // namespace dslam

@@ -1,15 +1,17 @@
 #pragma once
-// Runs the image front-end over a recorded image dataset, frame by frame, into the sequence of
-// measurements the back-end consumes (with the dataset's ground truth, when it has some, gated as the
-// front-end gates objects).
+// Runs a recorded image dataset: the image front-end frame by frame, alone (into the sequence of
+// measurements the back-end consumes) or streamed with the methods behind it (`dslam run`).
 
 #include <ostream>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "data/image_dataset.h"
 #include "data/sequence.h"
 #include "frontend/image_frontend.h"
 #include "backend/methods.h"
-#include "output/streaming_sink.h"
+#include "output/run_report.h"
 #include "pipeline/run_config.h"
 #include "pipeline/stage_latency.h"
 
@@ -25,22 +27,43 @@ struct ImageRunSummary {
   int odometry_rejected = 0;           // frames whose odometry contradicted the PnP motion (dropped)
   double median_fb_error_px = 0.0;     // median over frames of each frame's median
   bool has_ground_truth = false;
-  // With ours online: the latency of each stage (pipeline/stage_latency.h; "input" is reading the files
+  // Streamed with ours: the latency of each stage (pipeline/stage_latency.h; "input" is reading the files
   // and making masks, "publish" handing the estimate on).
   std::vector<StageLatencySummary> latency;
 };
 
-// max_frames <= 0: the whole dataset. Throws std::runtime_error naming the frame and file on bad input.
+// The front-end alone over the dataset, on this thread: the measurements, with the dataset's ground truth
+// gated as the front-end gates objects (what tests and studies feed RunSequence). max_frames <= 0: the
+// whole dataset. Throws std::runtime_error naming the frame and file on bad input.
 // `frame_log`, when given, receives one CSV row per frame and object (object_id 0: the background, flowed -1):
 // frame,object_id,flowed,tracked,added,measured,motion_rejected,pnp_inliers,median_fb_px,odometry_rejected,
 // previous,survival,reacquired
 // (see FrontendFrameStats::ObjectCounts).
-// With `ours`, the stages run in parallel (pipeline/staged_pipeline.h): this thread reads and decodes the
-// files, the front-end and ours' back-end each run on their own thread, and `ours` receives ours' result
-// (the same as RunSequence computes from the returned measurements), and `stream`, when given, ours' result
-// files as the estimates become final (output/streaming_sink.h). Without `ours`, the front-end runs here.
 Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, int max_frames, std::ostream* progress,
-                          ImageRunSummary* summary, std::ostream* frame_log = nullptr, MethodResult* ours = nullptr,
-                          StreamingFileSink* stream = nullptr);
+                          ImageRunSummary* summary, std::ostream* frame_log = nullptr);
+
+struct ImageRunOptions {
+  std::vector<Method> methods = {Method::kOurs, Method::kStaticOnly, Method::kSlamMot};
+  int max_frames = 0;                // <= 0: the whole dataset
+  std::string out_dir;               // the result files, written as the estimates become final; empty: none
+  std::ostream* progress = nullptr;  // progress lines; nullptr = quiet
+  std::ostream* frame_log = nullptr; // as RunImageFrontend's
+  std::string object_category;       // object metrics over this category only (empty: all)
+  std::set<int> keep_motions_of;     // frames whose final object motions (ours') the result keeps
+};
+
+struct ImageRunResult {
+  ImageRunSummary summary;
+  MethodOutcomes outcomes;  // metrics (with ground truth) and wall times; the estimates are in the files
+  std::vector<ObjectSummary> ours_objects;            // with ground truth
+  std::vector<ObjectMotionEstimate> kept_motions;     // ours', of the frames in keep_motions_of
+};
+
+// `dslam run`'s one stream: this thread reads and decodes the files, the front-end runs on its own thread
+// and the back-end on another, with the methods in lockstep (pipeline/lockstep_methods.h); each method's
+// result files (WriteRunOutputs' layout except metrics.json, which is the caller's) and evaluation grow
+// as its estimates become final. What it holds beyond the window grows by a stamp and a camera pose a
+// frame per method. Its metrics equal RunSequence's on RunImageFrontend's measurements.
+ImageRunResult RunImageStreamed(const ImageDataset& dataset, const RunConfig& config, const ImageRunOptions& options);
 
 }  // namespace dslam

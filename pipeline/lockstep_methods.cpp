@@ -52,17 +52,20 @@ EstimateSink* SinkOf(const std::map<Method, EstimateSink*>& sinks, Method method
 }  // namespace
 
 LockstepMethods::LockstepMethods(const RunConfig& config, double frame_rate_hz,
-                                 const std::map<Method, EstimateSink*>& sinks)
+                                 const std::map<Method, EstimateSink*>& sinks, bool keep_solve_history)
     : classifier_(config.classifier, frame_rate_hz) {
   config.validate();
   EstimateSink* ours = SinkOf(sinks, Method::kOurs);
   EstimateSink* static_only = SinkOf(sinks, Method::kStaticOnly);
   EstimateSink* slam_mot = SinkOf(sinks, Method::kSlamMot);
+  if (!ours && !static_only && !slam_mot) throw std::invalid_argument("no method to run: every sink is null");
   EstimatorOptions options;
   options.keep_solve_history = false;  // a long run keeps no per-frame statistics
   if (ours) {
-    options.sink = ours;
-    ours_ = std::make_unique<Estimator>(config.backend, frame_rate_hz, options);
+    EstimatorOptions ours_options = options;
+    ours_options.keep_solve_history = keep_solve_history;
+    ours_options.sink = ours;
+    ours_ = std::make_unique<Estimator>(config.backend, frame_rate_hz, ours_options);
   }
   if (static_only || slam_mot) {
     static_sink_ = std::make_unique<StaticStageSink>(static_only, slam_mot, &static_cameras_);
@@ -97,26 +100,30 @@ double LockstepMethods::Seconds(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-std::optional<FrameEstimate> LockstepMethods::add(FrameMeasurement frame) {
-  if (previous_) classifier_.label(*previous_, &frame);
+std::optional<FrameEstimate> LockstepMethods::add(FrameMeasurement* frame) {
+  if (previous_) classifier_.label(*previous_, frame);
   std::optional<FrameEstimate> latest;
   if (ours_) {
     const auto start = Clock::now();
-    ours_->addFrame(frame);
+    ours_->addFrame(*frame);
     latest = ours_->latest();
-    latest->t_ns = frame.t_ns;
+    latest->t_ns = frame->t_ns;
     ours_s_ += Seconds(start);
   }
   if (static_stage_) {
     const auto start = Clock::now();
-    static_stage_->addFrame(frame);
+    static_stage_->addFrame(*frame);
+    if (!latest) {
+      latest = static_stage_->latest();
+      latest->t_ns = frame->t_ns;
+    }
     static_s_ += Seconds(start);
   }
   if (object_stage_) {
-    object_stage_waiting_.push_back(frame);
+    object_stage_waiting_.push_back(*frame);
     feedObjectStage();
   }
-  previous_ = std::move(frame);
+  previous_ = *frame;
   return latest;
 }
 

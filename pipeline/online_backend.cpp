@@ -7,38 +7,42 @@
 
 namespace dslam {
 
-EstimatorOptions OnlineBackend::SinkOptions(EstimateSink* sink, bool collect) {
-  EstimatorOptions options;
-  options.sink = sink;
-  options.keep_solve_history = collect;
-  return options;
+void OnlineBackend::OursSinks::cameraFinal(int frame, const SE3& T_world_camera) {
+  for (EstimateSink* s : sinks_) s->cameraFinal(frame, T_world_camera);
+}
+void OnlineBackend::OursSinks::motionFinal(const ObjectMotionEstimate& motion) {
+  for (EstimateSink* s : sinks_) s->motionFinal(motion);
+}
+void OnlineBackend::OursSinks::pointFinal(const PointEstimate& point) {
+  for (EstimateSink* s : sinks_) s->pointFinal(point);
+}
+void OnlineBackend::OursSinks::cameraStepCovariance(int frame, const Mat6& covariance) {
+  for (EstimateSink* s : sinks_) s->cameraStepCovariance(frame, covariance);
 }
 
-// Without a stream the estimator collects by itself (null sink).
-EstimateSink* OnlineBackend::sinkFor(StreamingFileSink* stream, bool collect) {
-  if (!stream) return collect ? nullptr : &discard_;
-  return collect ? static_cast<EstimateSink*>(&tee_) : stream;
+// Called from the constructor's initialiser list, before methods_ is built (members above it exist).
+std::map<Method, EstimateSink*> OnlineBackend::methodSinks(const std::map<Method, EstimateSink*>& sinks) {
+  if (collect_) ours_sinks_.add(&collected_);
+  ours_sinks_.add(stream_);
+  std::map<Method, EstimateSink*> all = sinks;
+  if (const auto it = sinks.find(Method::kOurs); it != sinks.end()) ours_sinks_.add(it->second);
+  // Ours runs where its estimates go somewhere, and always alone (a service's stage is ours).
+  if (!ours_sinks_.empty() || all.empty()) all[Method::kOurs] = &ours_sinks_;
+  return all;
 }
 
-OnlineBackend::OnlineBackend(const RunConfig& config, double frame_rate_hz, StreamingFileSink* stream, bool collect)
-    : stream_(stream),
-      collect_(collect),
-      tee_(&collected_, stream),
-      classifier_(config.classifier, frame_rate_hz),
-      estimator_(config.backend, frame_rate_hz, SinkOptions(sinkFor(stream, collect), collect)) {}
+OnlineBackend::OnlineBackend(const RunConfig& config, double frame_rate_hz, StreamingFileSink* stream, bool collect,
+                             const std::map<Method, EstimateSink*>& sinks)
+    : stream_(stream), collect_(collect), methods_(config, frame_rate_hz, methodSinks(sinks), collect) {}
 
 FrameEstimate OnlineBackend::add(FrameMeasurement* frame) {
   const auto start = std::chrono::steady_clock::now();
   // The estimator's own checks, before the classifier and the files see the frame.
   if (const std::string bad = FindInvalidMeasurement(*frame, frames_added_); !bad.empty())
     throw std::invalid_argument(bad);
-  if (previous_) classifier_.label(*previous_, frame);
   if (stream_) stream_->frameStamp(frames_added_, frame->t_ns);
-  estimator_.addFrame(*frame);
-  previous_ = *frame;
+  const FrameEstimate latest = *methods_.add(frame);
   ++frames_added_;
-  FrameEstimate latest = estimator_.latest();
-  latest.t_ns = frame->t_ns;
   if (collect_) result_.online.push_back(latest);
   if (stream_) stream_->onlinePose(latest.t_ns, latest.T_world_camera);
   result_.wall_time_s += SecondsSince(start);
@@ -47,12 +51,10 @@ FrameEstimate OnlineBackend::add(FrameMeasurement* frame) {
 
 MethodResult OnlineBackend::finish() {
   const auto start = std::chrono::steady_clock::now();
-  result_.estimate = estimator_.finish();
-  if (stream_) {
-    result_.estimate = std::move(collected_.estimate);
-    stream_->finish();
-  }
-  result_.solve_times_ms = estimator_.solveTimesMs();
+  methods_.finish();
+  if (collect_) result_.estimate = std::move(collected_.estimate);
+  if (stream_) stream_->finish();
+  if (methods_.ours()) result_.solve_times_ms = methods_.ours()->solveTimesMs();
   result_.wall_time_s += SecondsSince(start);
   return std::move(result_);
 }

@@ -6,14 +6,14 @@ namespace dslam {
 
 StagedPipeline::StagedPipeline(const RunConfig& config, const PinholeCamera& camera, double frame_rate_hz,
                                size_t queue_capacity, StagedPipelineCallbacks callbacks, StreamingFileSink* stream,
-                               bool collect)
+                               bool collect, const std::map<Method, EstimateSink*>& sinks)
     : config_(config),
       camera_(camera),
       frame_rate_hz_(frame_rate_hz),
       callbacks_(std::move(callbacks)),
       frames_(queue_capacity),
       measurements_(queue_capacity),
-      backend_(config, frame_rate_hz, stream, collect) {
+      backend_(config, frame_rate_hz, stream, collect, sinks) {
   config_.validate();
   if (!(frame_rate_hz > 0.0)) throw std::invalid_argument("the pipeline needs a positive frame rate");
   config_.frontend.frame_interval_s = 1.0 / frame_rate_hz;

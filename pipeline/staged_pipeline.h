@@ -13,6 +13,7 @@
 #include <atomic>
 #include <exception>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -47,9 +48,11 @@ class StagedPipeline {
  public:
   // `camera`: its size is taken from the first frame when width/height are 0. `queue_capacity`: frames
   // waiting before each stage.
-  // `stream` and `collect`: see OnlineBackend (the stream is written from the back-end thread).
+  // `stream`, `collect` and `sinks` (the baselines beside ours, more sinks for ours): see OnlineBackend;
+  // they are called from the back-end thread.
   StagedPipeline(const RunConfig& config, const PinholeCamera& camera, double frame_rate_hz, size_t queue_capacity,
-                 StagedPipelineCallbacks callbacks, StreamingFileSink* stream = nullptr, bool collect = true);
+                 StagedPipelineCallbacks callbacks, StreamingFileSink* stream = nullptr, bool collect = true,
+                 const std::map<Method, EstimateSink*>& sinks = {});
   ~StagedPipeline();  // stops both stages (what is still queued is not processed)
   StagedPipeline(const StagedPipeline&) = delete;
   StagedPipeline& operator=(const StagedPipeline&) = delete;
@@ -64,6 +67,8 @@ class StagedPipeline {
   uint64_t framesDropped() const { return frames_.dropped(); }
   // Processes everything pushed, joins the stages and returns ours' result; throws a stage's error.
   MethodResult finish();
+  // After finish(): the seconds a method spent in its estimators.
+  double wallTimeS(Method method) const { return backend_.wallTimeS(method); }
   // From any thread, also while finish() waits: the frames and measurements still queued are dropped
   // instead of processed (what is in progress completes), so that finish() returns at once and flushes
   // what was estimated. For a service asked twice to stop.

@@ -6,37 +6,11 @@
 #include <memory>
 #include <stdexcept>
 
-#include "evaluation/streaming_evaluator.h"
 #include "output/object_summary.h"
-#include "output/streaming_sink.h"
 #include "pipeline/lockstep_methods.h"
+#include "pipeline/method_output.h"
 
 namespace dslam {
-namespace {
-
-StreamedFiles FilesOf(Method method) {
-  StreamedFiles files;
-  files.method = ToString(method);
-  files.kitti = true;
-  files.online = files.map_points = method == Method::kOurs;
-  files.object_tables = method != Method::kStaticOnly;
-  if (method == Method::kSlamMot) files.object_suffix = "_slam_mot";
-  return files;
-}
-
-// One method's evaluation and files, fed the same estimates.
-struct MethodOutput {
-  MethodOutput(const std::string& dir, Method method, const GroundTruth& gt, double frame_rate_hz,
-               const std::string& category)
-      : evaluator(gt, frame_rate_hz, method != Method::kStaticOnly, category),
-        files(dir, FilesOf(method), &gt, frame_rate_hz),
-        tee(&evaluator, &files) {}
-  StreamingEvaluator evaluator;
-  StreamingFileSink files;
-  TeeSink tee;
-};
-
-}  // namespace
 
 StreamedRunResult RunStreamed(SensorSimulator* simulator, const RunConfig& config, const StreamedRunOptions& options) {
   std::error_code ec;
@@ -50,8 +24,8 @@ StreamedRunResult RunStreamed(SensorSimulator* simulator, const RunConfig& confi
   for (Method method : options.methods) {
     auto& output = outputs[method];
     if (output) continue;
-    output = std::make_unique<MethodOutput>(options.out_dir, method, gt, rate, options.object_category);
-    sinks[method] = &output->tee;
+    output = std::make_unique<MethodOutput>(method, options.out_dir, &gt, rate, options.object_category);
+    sinks[method] = output.get();
   }
   LockstepMethods methods(config, rate, sinks);
 
@@ -64,12 +38,9 @@ StreamedRunResult RunStreamed(SensorSimulator* simulator, const RunConfig& confi
     const int k = frame.frame_index;
     const int64_t stamp = frame.t_ns;
     t_ns.push_back(stamp);
-    for (auto& [method, output] : outputs) {
-      output->evaluator.frameMade(frame);
-      output->files.frameStamp(k, stamp);
-    }
-    const std::optional<FrameEstimate> latest = methods.add(std::move(frame));
-    if (latest) outputs.at(Method::kOurs)->files.onlinePose(stamp, latest->T_world_camera);
+    for (auto& [method, output] : outputs) output->frameMade(k, stamp);
+    const std::optional<FrameEstimate> latest = methods.add(&frame);
+    if (latest) outputs.at(Method::kOurs)->onlinePose(stamp, latest->T_world_camera);
     if (options.progress && ((k + 1) % step == 0 || k + 1 == total))
       *options.progress << "  frame " << k + 1 << "/" << total << std::endl;
     if (options.after_frame) options.after_frame(k + 1);
@@ -78,11 +49,11 @@ StreamedRunResult RunStreamed(SensorSimulator* simulator, const RunConfig& confi
 
   StreamedRunResult result;
   for (auto& [method, output] : outputs) {
-    output->files.finish();
+    output->finish();
     MethodOutcome& outcome = result.outcomes[method];
-    outcome.metrics = output->evaluator.metrics();
+    outcome.metrics = output->metrics();
     outcome.result.wall_time_s = methods.wallTimeS(method);
-    if (method == Method::kOurs) result.ours_objects = output->evaluator.objects();
+    if (method == Method::kOurs) result.ours_objects = output->objects();
   }
   WriteGroundTruthFiles(options.out_dir, gt, t_ns);
   if (outputs.count(Method::kOurs)) WriteObjectsCsv(options.out_dir + "/objects.csv", result.ours_objects);

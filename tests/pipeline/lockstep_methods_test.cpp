@@ -47,7 +47,7 @@ TEST(LockstepMethods, EachMethodEstimatesWhatItEstimatesAlone) {
   EXPECT_FALSE(collected[Method::kSlamMot].estimate.object_motions.empty());
 }
 
-// Only the methods given a sink run; ours' absence means no online estimate.
+// Only the methods given a sink run; without ours, each frame's estimate is the static stage's.
 TEST(LockstepMethods, RunsOnlyTheMethodsThatHaveASink) {
   ScenarioOptions opt;
   opt.num_frames = 4;
@@ -56,12 +56,23 @@ TEST(LockstepMethods, RunsOnlyTheMethodsThatHaveASink) {
   config.backend.schedule = {ScheduleKind::kSlidingWindow, 8};
   CollectingSink static_only;
   LockstepMethods methods(config, seq.frame_rate_hz, {{Method::kStaticOnly, &static_only}});
-  for (const FrameMeasurement& f : seq.frames) EXPECT_FALSE(methods.add(f).has_value());
+  for (const FrameMeasurement& f : seq.frames) {
+    const std::optional<FrameEstimate> latest = methods.add(f);
+    ASSERT_TRUE(latest.has_value());
+    EXPECT_EQ(latest->frame, f.frame_index);
+    EXPECT_EQ(latest->t_ns, f.t_ns);
+  }
   methods.finish();
   EXPECT_EQ(static_only.estimate.T_world_camera.size(), 4u);
   EXPECT_EQ(methods.wallTimeS(Method::kOurs), 0.0);
   // SLAM+MOT's time counts the static stage it shares with static-only; no object stage ran.
   EXPECT_EQ(methods.wallTimeS(Method::kSlamMot), methods.wallTimeS(Method::kStaticOnly));
+}
+
+TEST(LockstepMethods, RefusesToRunNoMethod) {
+  RunConfig config;
+  EXPECT_THROW(LockstepMethods(config, 10.0, {}), std::invalid_argument);
+  EXPECT_THROW(LockstepMethods(config, 10.0, {{Method::kOurs, nullptr}}), std::invalid_argument);
 }
 
 }  // namespace

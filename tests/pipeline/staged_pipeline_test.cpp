@@ -14,8 +14,6 @@
 #include "app/run_command.h"
 #include "output/result_reader.h"
 #include "output/trajectory_io.h"
-#include "pipeline/image_run.h"
-#include "pipeline/run_sequence.h"
 #include "pipeline/vehicle_pipeline.h"
 #include "support/rendered_city.h"
 #include "support/temp_paths.h"
@@ -189,26 +187,6 @@ TEST(StagedPipeline, WithoutARejectionHandlerABadFrameStopsItAndFinishThrowsTheE
   for (int i = 0; i < 200 && !refused; ++i) refused = !staged.push(data.read(2));
   EXPECT_TRUE(refused);
   EXPECT_THROW(staged.finish(), std::invalid_argument);
-}
-
-TEST(StagedPipeline, TheImageRunsOursInParallelAndGetsWhatTheSequentialMethodGets) {
-  const std::string dir = test::RenderedCity("staged_city", 12);
-  const RunConfig config = RunDefaults();
-  const ImageDataset data(dir, config.dataset);
-  MethodResult ours;
-  ImageRunSummary summary;
-  const Sequence seq = RunImageFrontend(data, config, 0, nullptr, &summary, nullptr, &ours);
-  ASSERT_EQ(seq.frames.size(), 12u);
-  EXPECT_EQ(summary.frames, 12);
-  RunSequenceOptions run;
-  run.methods = {Method::kOurs};
-  run.evaluate = false;
-  const MethodResult sequential = RunSequence(seq, config, run).at(Method::kOurs).result;
-  ASSERT_EQ(ours.online.size(), sequential.online.size());
-  for (size_t k = 0; k < ours.online.size(); ++k) ExpectSame(ours.online[k], sequential.online[k]);
-  ASSERT_EQ(ours.estimate.object_motions.size(), sequential.estimate.object_motions.size());
-  for (size_t i = 0; i < ours.estimate.object_motions.size(); ++i)
-    EXPECT_EQ(ours.estimate.object_motions[i].speed_mps, sequential.estimate.object_motions[i].speed_mps);
 }
 
 TEST(StagedPipeline, AsAServiceItKeepsNothingPerFrameAndItsFilesHoldEveryEstimate) {

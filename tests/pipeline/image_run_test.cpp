@@ -1,0 +1,99 @@
+// `dslam run`'s one stream (front-end and methods in parallel, the baselines in lockstep beside ours,
+// files and metrics as the estimates become final) computes what the front-end alone followed by the
+// collected methods computes.
+#include "pipeline/image_run.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "app/run_command.h"
+#include "pipeline/run_sequence.h"
+#include "support/rendered_city.h"
+#include "support/same_run.h"
+#include "support/temp_paths.h"
+
+namespace dslam {
+namespace {
+
+RunConfig RunDefaults() {
+  RunConfig config;
+  config.backend.default_mode = ParseMotionMode(kRunDefaultMode);
+  config.backend.schedule = ParseSchedule(RunCommandOptions().default_schedule.value());
+  return config;
+}
+
+TEST(ImageRun, TheStreamedRunEqualsTheFrontEndFollowedByTheCollectedMethods) {
+  const std::string dir = test::RenderedCity("staged_city", 12);
+  const RunConfig config = RunDefaults();
+  const ImageDataset data(dir, config.dataset);
+
+  ImageRunSummary frontend_summary;
+  std::ostringstream collected_log;
+  const Sequence seq = RunImageFrontend(data, config, 0, nullptr, &frontend_summary, &collected_log);
+  ASSERT_TRUE(frontend_summary.has_ground_truth);
+  const MethodOutcomes collected = RunSequence(seq, config);
+  const std::string collected_dir = test::TempPath("image_run_collected");
+  WriteRunOutputs(collected_dir, seq, collected, {});
+
+  ImageRunOptions run;
+  run.out_dir = test::TempPath("image_run_streamed");
+  std::ostringstream streamed_log;
+  run.frame_log = &streamed_log;
+  run.keep_motions_of = {3, 8};
+  const ImageRunResult streamed = RunImageStreamed(data, config, run);
+
+  EXPECT_EQ(streamed.summary.frames, 12);
+  EXPECT_TRUE(streamed.summary.has_ground_truth);
+  EXPECT_EQ(streamed.summary.mean_static_tracks, frontend_summary.mean_static_tracks);
+  EXPECT_FALSE(streamed.summary.latency.empty());
+  EXPECT_EQ(streamed_log.str(), collected_log.str());  // the front-end's own log, row for row
+  ASSERT_EQ(streamed.outcomes.size(), 3u);
+  for (const auto& [method, outcome] : collected) {
+    test::ExpectSameMetrics(streamed.outcomes.at(method).metrics, outcome.metrics, ToString(method));
+    EXPECT_GT(streamed.outcomes.at(method).result.wall_time_s, 0.0) << ToString(method);
+  }
+
+  for (const char* name : {"camera_ours.tum", "camera_ours_online.tum", "camera_static_only.tum", "camera_slam_mot.tum",
+                           "camera_gt.tum"})
+    test::ExpectSameTrajectory(run.out_dir + "/" + name, collected_dir + "/" + name);
+  for (const char* name : {"object_speeds.csv", "object_motions.csv", "object_speeds_slam_mot.csv", "map_points.csv",
+                           "objects.csv", "object_centroids_gt.csv"})
+    test::ExpectSameRows(run.out_dir + "/" + name, collected_dir + "/" + name);
+
+  // Ours' final motions of the frames asked for, and only those.
+  std::vector<ObjectMotionEstimate> want;
+  for (const ObjectMotionEstimate& m : collected.at(Method::kOurs).result.estimate.object_motions)
+    if (m.frame == 3 || m.frame == 8) want.push_back(m);
+  ASSERT_FALSE(want.empty());
+  ASSERT_EQ(streamed.kept_motions.size(), want.size());
+  for (const ObjectMotionEstimate& m : streamed.kept_motions) EXPECT_TRUE(m.frame == 3 || m.frame == 8);
+}
+
+// A baseline alone runs without ours (nothing of ours is written), and gets what it gets beside ours.
+TEST(ImageRun, ABaselineAloneRunsWithoutOurs) {
+  const std::string dir = test::RenderedCity("staged_city", 12);
+  const RunConfig config = RunDefaults();
+  const ImageDataset data(dir, config.dataset);
+  const Sequence seq = RunImageFrontend(data, config, 0, nullptr, nullptr);
+  RunSequenceOptions collected_run;
+  collected_run.methods = {Method::kStaticOnly};
+  const MethodOutcomes collected = RunSequence(seq, config, collected_run);
+
+  ImageRunOptions run;
+  run.methods = {Method::kStaticOnly};
+  run.out_dir = test::TempPath("image_run_static_only");
+  const ImageRunResult streamed = RunImageStreamed(data, config, run);
+  ASSERT_EQ(streamed.outcomes.size(), 1u);
+  test::ExpectSameMetrics(streamed.outcomes.at(Method::kStaticOnly).metrics,
+                          collected.at(Method::kStaticOnly).metrics, "static_only");
+  EXPECT_GT(streamed.outcomes.at(Method::kStaticOnly).result.wall_time_s, 0.0);
+  EXPECT_TRUE(std::filesystem::exists(run.out_dir + "/camera_static_only.tum"));
+  EXPECT_FALSE(std::filesystem::exists(run.out_dir + "/camera_ours.tum"));
+  EXPECT_TRUE(streamed.ours_objects.empty());
+}
+
+}  // namespace
+}  // namespace dslam
