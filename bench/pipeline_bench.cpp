@@ -3,10 +3,10 @@
 // already in memory (without PNG decoding) and from the files (what `dslam run --methods ours` does).
 // Usage: bench_pipeline [DATASET_DIR] [frames=60] [repeats=3] [long_run_frames=0]
 // Without DATASET_DIR it renders the built-in city (the demo's scene) into a scratch folder.
-// Prints the median over the repeats of each mode. With long_run_frames > 0 it then runs the staged
-// pipeline as `serve` does (results streamed to files, nothing collected) over that many frames, the
-// sequence played forwards and backwards in turn (a continuous drive), and prints the process' resident
-// memory every 1000 frames: a service must not grow.
+// Prints the median over the repeats of each mode. With long_run_frames > 0 it then runs `dslam run`'s
+// stream (the three methods in lockstep, results streamed to files) over that many frames, the sequence
+// played forwards and backwards in turn (a continuous drive), and prints the process' resident memory
+// every 1000 frames: a run must not grow with its length.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -32,46 +32,26 @@ using dslam::SecondsSince;
 
 using dslam::bench::RssMb;
 
-// The frame at step i of a forwards-and-backwards replay, stamped and numbered as the i-th frame.
-dslam::ImageFrame PingPong(const std::vector<dslam::ImageFrame>& images, int i, int64_t period_ns) {
-  const int n = static_cast<int>(images.size()), cycle = 2 * (n - 1);
-  const int phase = i % cycle;
-  const bool forwards = phase < n;  // k = 0 .. n-1, then n-2 .. 1 backwards
-  const int k = forwards ? phase : cycle - phase;
-  dslam::ImageFrame f = images[k];
-  f.t_ns = static_cast<int64_t>(i) * period_ns;
-  f.frame_index = i;
-  // Backwards, the increment into k is the inverse of the recorded one into k+1.
-  if (i == 0) f.odometry.reset();
-  else if (!forwards && images[k + 1].odometry) {
-    f.odometry = images[k + 1].odometry;
-    f.odometry->T_prev_curr = images[k + 1].odometry->T_prev_curr.inverse();
-  } else if (forwards && k == 0 && images[1].odometry) {
-    f.odometry = images[1].odometry;  // turning at the first frame: from frame 1 back to 0 and on to 1
-    f.odometry->T_prev_curr = images[1].odometry->T_prev_curr.inverse();
-  }
-  return f;
-}
-
-void LongRun(const dslam::RunConfig& config, const dslam::ImageDataset& data,
-             const std::vector<dslam::ImageFrame>& images, int frames) {
-  const std::string out = (std::filesystem::temp_directory_path() / "dslam_bench_pipeline_long").string();
-  dslam::StreamingFileSink stream(out);
-  dslam::StagedPipeline pipeline(config, data.camera(), data.frameRateHz(), 4, {}, &stream, /*collect=*/false);
-  const int64_t period_ns = static_cast<int64_t>(1e9 / data.frameRateHz());
-  std::printf("long run as serve runs (streamed to %s, nothing collected):\n", out.c_str());
-  double rss_at_2000 = 0.0;
+// `dslam run` over `frames` frames of the dataset played forwards and backwards in turn (a continuous
+// drive): the three methods in lockstep, their files streamed, nothing collected; the process' resident
+// memory every 1000 frames. A run must not grow with its length.
+void LongRun(const dslam::RunConfig& config, const dslam::ImageDataset& data, int frames) {
+  dslam::ImageRunOptions run;
+  run.out_dir = (std::filesystem::temp_directory_path() / "dslam_bench_pipeline_long").string();
+  run.max_frames = frames;
+  run.ping_pong = true;
+  std::printf("long run as dslam run runs (three methods, streamed to %s):\n", run.out_dir.c_str());
+  double rss_at_1000 = 0.0, rss_last = 0.0;
   const auto t0 = Clock::now();
-  for (int i = 0; i < frames; ++i) {
-    pipeline.push(PingPong(images, i, period_ns));
-    if ((i + 1) % 1000 == 0) {
-      const double rss = RssMb();
-      if (i + 1 == 2000) rss_at_2000 = rss;
-      std::printf("  frame %6d: RSS %7.1f MB, %.1f frames/s\n", i + 1, rss, (i + 1) / SecondsSince(t0));
-    }
-  }
-  pipeline.finish();
-  if (rss_at_2000 > 0.0) std::printf("RSS at the end / at frame 2000: %.3f\n", RssMb() / rss_at_2000);
+  run.after_frame = [&](int done) {
+    if (done % 1000 != 0) return;
+    rss_last = RssMb();
+    if (done == 1000) rss_at_1000 = rss_last;
+    std::printf("  frame %6d: RSS %7.1f MB, %.1f frames/s\n", done, rss_last, done / SecondsSince(t0));
+    std::fflush(stdout);
+  };
+  dslam::RunImageStreamed(data, config, run);
+  if (rss_at_1000 > 0.0) std::printf("RSS at the last thousand / at frame 1000: %.3f\n", rss_last / rss_at_1000);
 }
 }  // namespace
 
@@ -126,6 +106,6 @@ int main(int argc, char** argv) {
   std::printf("  in memory, stages in parallel:  %6.1f frames/s\n", dslam::bench::Percentile(staged, 0.5));
   std::printf("  from PNG files, in parallel:    %6.1f frames/s (reading and decoding included)\n",
               dslam::bench::Percentile(from_files, 0.5));
-  if (long_run_frames > 0) LongRun(config, data, images, long_run_frames);
+  if (long_run_frames > 0) LongRun(config, data, long_run_frames);
   return 0;
 }

@@ -12,6 +12,7 @@
 
 #include "data/frame_timing.h"
 #include "data/kitti_dataset.h"
+#include "data/ping_pong_replay.h"
 #include "output/object_summary.h"
 #include "pipeline/method_output.h"
 #include "pipeline/reference_objects.h"
@@ -124,14 +125,17 @@ class FrontendRecorder {
 // own, when the run makes its own), keeps the dataset's for the matcher.
 class FrameReader {
  public:
-  FrameReader(const ImageDataset& dataset, const RunConfig& config, FrontendRecorder* recorder)
-      : dataset_(dataset), masks_(config.masks) {
-    if (config.masks.source != MaskSourceKind::kDataset && dataset.groundTruth() && dataset.hasMasks()) {
+  FrameReader(const ImageDataset& dataset, const RunConfig& config, FrontendRecorder* recorder, bool ping_pong = false)
+      : dataset_(dataset), masks_(config.masks), ping_pong_(ping_pong) {
+    if (ping_pong_ && dataset.size() < 2)
+      throw std::invalid_argument("replaying " + dataset.name() + " forwards and backwards needs 2 frames or more");
+    if (!ping_pong_ && config.masks.source != MaskSourceKind::kDataset && dataset.groundTruth() && dataset.hasMasks()) {
       reference_.emplace(dataset.camera(), config.frontend.min_mask_area_pct);
       recorder->useReferenceMasks(&*reference_);
     }
   }
   ImageFrame read(int k) {
+    if (ping_pong_) return readPingPong(k);
     ImageFrame frame = dataset_.read(k);
     if (reference_ && !frame.instance_ids.empty()) reference_->keep(k, frame.instance_ids);
     ApplyMaskSource(masks_, dataset_.camera(), frame);
@@ -140,8 +144,18 @@ class FrameReader {
   const ReferenceObjectMatcher* reference() const { return reference_ ? &*reference_ : nullptr; }
 
  private:
+  ImageFrame readPingPong(int i) {
+    const int n = dataset_.size();
+    ImageFrame frame = dataset_.read(PingPongFrame(i, n));
+    const int64_t period_ns = static_cast<int64_t>(1e9 / dataset_.frameRateHz());
+    ToPingPongStep(i, n, period_ns, [&](int k) { return dataset_.odometryAt(k); }, &frame);
+    ApplyMaskSource(masks_, dataset_.camera(), frame);
+    return frame;
+  }
+
   const ImageDataset& dataset_;
   MaskSourceParams masks_;
+  bool ping_pong_;
   std::optional<ReferenceObjectMatcher> reference_;
 };
 
@@ -230,7 +244,9 @@ Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, 
 ImageRunResult RunImageStreamed(const ImageDataset& dataset, const RunConfig& config, const ImageRunOptions& options) {
   config.validate();
   if (options.methods.empty()) throw std::invalid_argument("the run names no method");
-  const int frames = FramesToRun(dataset, options.max_frames);
+  if (options.ping_pong && options.max_frames <= 0)
+    throw std::invalid_argument("a forwards-and-backwards replay needs a number of frames");
+  const int frames = options.ping_pong ? options.max_frames : FramesToRun(dataset, options.max_frames);
   const double rate = dataset.frameRateHz();
   if (!options.out_dir.empty()) {
     std::error_code ec;
@@ -239,13 +255,13 @@ ImageRunResult RunImageStreamed(const ImageDataset& dataset, const RunConfig& co
   }
   std::mutex progress_mutex;
   FrontendRecorder recorder(frames, options.progress, &progress_mutex, options.frame_log, nullptr);
-  FrameReader reader(dataset, config, &recorder);
+  FrameReader reader(dataset, config, &recorder, options.ping_pong);
 
   // The ground truth learns frame by frame what the front-end saw; it and the outputs that read it are
   // guarded by one mutex (the front-end thread writes, the back-end thread's sinks read).
   std::mutex outputs_mutex;
   std::optional<GroundTruth> gt;
-  if (dataset.groundTruth()) gt = ToUnobservedGroundTruth(*dataset.groundTruth(), frames);
+  if (dataset.groundTruth() && !options.ping_pong) gt = ToUnobservedGroundTruth(*dataset.groundTruth(), frames);
   std::map<Method, std::unique_ptr<MethodOutput>> outputs;
   std::vector<std::unique_ptr<EstimateSink>> wrappers;
   std::map<Method, EstimateSink*> sinks;
@@ -299,6 +315,7 @@ ImageRunResult RunImageStreamed(const ImageDataset& dataset, const RunConfig& co
     frame.timing.assembled_ns = SteadyClockNs();
     read_s += 1e-9 * static_cast<double>(frame.timing.assembled_ns - received_ns);
     if (!pipeline.push(std::move(frame))) break;  // a stage failed: finish() throws its error
+    if (options.after_frame) options.after_frame(k + 1);
   }
   pipeline.finish();
 

@@ -2,6 +2,7 @@
 // Runs a recorded image dataset: the image front-end frame by frame, alone (into the sequence of
 // measurements the back-end consumes) or streamed with the methods behind it (`dslam run`).
 
+#include <functional>
 #include <ostream>
 #include <set>
 #include <string>
@@ -50,6 +51,11 @@ struct ImageRunOptions {
   std::ostream* frame_log = nullptr; // as RunImageFrontend's
   std::string object_category;       // object metrics over this category only (empty: all)
   std::set<int> keep_motions_of;     // frames whose final object motions (ours') the result keeps
+  // Replay the dataset forwards and backwards in turn (data/ping_pong_replay.h) for max_frames frames: a
+  // long run from a short recording, for memory benchmarks; nothing is evaluated.
+  bool ping_pong = false;
+  // Called on the reading thread after each frame is handed to the front-end, with the frames read so far.
+  std::function<void(int)> after_frame;
 };
 
 struct ImageRunResult {

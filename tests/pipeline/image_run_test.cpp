@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "app/run_command.h"
+#include "output/trajectory_io.h"
 #include "pipeline/run_sequence.h"
 #include "support/rendered_city.h"
 #include "support/same_run.h"
@@ -93,6 +94,40 @@ TEST(ImageRun, ABaselineAloneRunsWithoutOurs) {
   EXPECT_TRUE(std::filesystem::exists(run.out_dir + "/camera_static_only.tum"));
   EXPECT_FALSE(std::filesystem::exists(run.out_dir + "/camera_ours.tum"));
   EXPECT_TRUE(streamed.ours_objects.empty());
+}
+
+// A long run from a short recording (the memory benchmark's): the dataset forwards and backwards, each
+// method's files as long as the drive, nothing evaluated; back at the first recorded frame, ours' camera is
+// back where it started.
+TEST(ImageRun, ReplaysTheDatasetForwardsAndBackwardsAsOneDrive) {
+  const std::string dir = test::RenderedCity("staged_city", 12);
+  const RunConfig config = RunDefaults();
+  const ImageDataset data(dir, config.dataset);
+  ImageRunOptions run;
+  run.out_dir = test::TempPath("image_run_ping_pong");
+  run.max_frames = 23;  // 0..11, 10..0: step 22 is recorded frame 0 again
+  run.ping_pong = true;
+  int frames_read = 0;
+  run.after_frame = [&](int done) { EXPECT_EQ(done, ++frames_read); };
+  const ImageRunResult result = RunImageStreamed(data, config, run);
+  EXPECT_EQ(frames_read, 23);
+  EXPECT_EQ(result.summary.frames, 23);
+  EXPECT_FALSE(result.summary.has_ground_truth);
+  EXPECT_FALSE(result.outcomes.at(Method::kOurs).metrics.camera.rte_pct.has_value());  // nothing evaluated
+  for (const char* name : {"camera_ours.tum", "camera_static_only.tum", "camera_slam_mot.tum"}) {
+    std::vector<int64_t> t_ns;
+    const std::vector<SE3> poses = ReadTumTrajectory(run.out_dir + "/" + name, &t_ns);
+    ASSERT_EQ(poses.size(), 23u) << name;
+    EXPECT_NEAR(static_cast<double>(t_ns[22] - t_ns[0]), 22e9 / data.frameRateHz(), 1e3) << name;  // 22 periods
+  }
+  const std::vector<SE3> ours = ReadTumTrajectory(run.out_dir + "/camera_ours.tum");
+  const double returned_m = (ours[22].translation() - ours[0].translation()).norm();
+  const double farthest_m = (ours[11].translation() - ours[0].translation()).norm();
+  EXPECT_GT(farthest_m, 1.0);
+  EXPECT_LT(returned_m, 0.05 * farthest_m) << "back at the first frame, " << returned_m << " m from where it started";
+  ImageRunOptions without_frames = run;
+  without_frames.max_frames = 0;
+  EXPECT_THROW(RunImageStreamed(data, config, without_frames), std::invalid_argument);
 }
 
 }  // namespace
