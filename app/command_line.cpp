@@ -80,7 +80,7 @@ int RunCommandLine(int argc, char** argv) {
   replay_cmd->add_option("--seed", replay.seed, "Random seed; runs are deterministic")->capture_default_str();
   replay_cmd->add_option("--mode", replay.mode,
                          std::string("Object motion model: per-step, constant or smoothed (default ") +
-                             dslam::kKittiReplayDefaultMode + ")");
+                             dslam::ToString(dslam::DefaultsOf(dslam::EntryPoint::kKittiReplay).mode) + ")");
   replay_cmd->add_option("--schedule", replay.schedule, "Solver schedule: batch (default) or window:W");
   replay_cmd->add_option("--category", replay.category,
                          "Object category the metrics cover (VEHICLE, PEDESTRIAN, BICYCLE; empty = all)")
@@ -176,8 +176,10 @@ int RunCommandLine(int argc, char** argv) {
       ->capture_default_str();
   run_cmd->add_option("--mode", run.mode,
                       std::string("Object motion model: per-step, constant or smoothed (default ") +
-                          dslam::kRunDefaultMode + ")");
-  run_cmd->add_option("--schedule", run.schedule, "Solver schedule: window:W (default window:10) or batch");
+                          dslam::ToString(dslam::DefaultsOf(dslam::EntryPoint::kRun).mode) + ")");
+  run_cmd->add_option("--schedule", run.schedule,
+                      "Solver schedule: window:W (default " +
+                          dslam::ToString(dslam::DefaultsOf(dslam::EntryPoint::kRun).schedule) + ") or batch");
   run_cmd->add_option("--sigma", run.sigma_m, "Point measurement sigma per axis assumed by the back-end, metres (0.0001 to 10)")
       ->check(CLI::Range(1e-4, 10.0))
       ->capture_default_str();

@@ -41,9 +41,7 @@ void InstallStopHandlers() {
 }  // namespace
 
 RunConfig ServeRunConfig(const ServeCommandOptions& options) {
-  RunConfig base;  // serve's defaults are dslam run's, under the configuration file
-  base.backend.default_mode = MotionMode::kSmoothed;
-  base.backend.schedule = {ScheduleKind::kSlidingWindow, 10};
+  const RunConfig base = DefaultRunConfig(EntryPoint::kServe);  // under the configuration file
   RunConfig config = options.config_path ? LoadRunConfig(*options.config_path, base) : base;
   // Estimates leave serve frame by frame; a batch solve has none until the stream ends.
   if (config.backend.schedule.kind == ScheduleKind::kBatch)

@@ -35,7 +35,7 @@ struct ServeCommandOptions {
 
 // Runs until SIGINT or SIGTERM (or max_run_s), then writes every vehicle's results. Exit codes: 0 done,
 // 2 bad options or configuration, 4 DDS could not start.
-// serve's run configuration: dslam run's defaults (smoothed, window:10), then the --config file over them.
+// serve's run configuration: its defaults (pipeline/run_defaults.h), then the --config file over them.
 RunConfig ServeRunConfig(const ServeCommandOptions& options);
 
 int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::ostream& err);

@@ -13,7 +13,7 @@ namespace dslam {
 int RunKittiReplayCommand(const KittiReplayCommandOptions& options, std::ostream& out, std::ostream& err) {
   try {
     const auto start = std::chrono::steady_clock::now();
-    const RunConfig config = BuildRunConfig(options, kKittiReplayDefaultMode);
+    const RunConfig config = BuildRunConfig(options, EntryPoint::kKittiReplay);
     RequireWritableOutDir(options.out_dir);
     const KittiGroundTruthSequence gt = LoadKittiGroundTruth(options.data_dir, options.sequence);
 

@@ -14,8 +14,6 @@ struct KittiReplayCommandOptions : CommonRunOptions {
   std::string category = "VEHICLE";  // objects the metrics are computed over ("" = all)
 };
 
-// The motion model kitti-replay uses unless told otherwise.
-constexpr const char* kKittiReplayDefaultMode = "smoothed";
 
 // `dslam kitti-replay`: ground-truth replay of a KITTI tracking sequence, all methods, result files,
 // the metrics table and the per-object table. Returns the exit code; errors go to `err`.

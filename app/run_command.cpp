@@ -37,7 +37,7 @@ void WriteFrameOverlays(const ImageDataset& dataset, const RunConfig& config,
 int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostream& err) {
   try {
     const auto start = std::chrono::steady_clock::now();
-    RunConfig config = BuildRunConfig(options, kRunDefaultMode);
+    RunConfig config = BuildRunConfig(options, EntryPoint::kRun);
     if (options.flow) config.frontend.flow.method = ParseFlowMethod(*options.flow);
     if (options.frames < 0) throw std::invalid_argument("--frames must be >= 0");
     RequireWritableOutDir(options.out_dir);

@@ -11,7 +11,6 @@ namespace dslam {
 struct RunCommandOptions : CommonRunOptions {
   RunCommandOptions() {
     out_dir = "results/run";
-    default_schedule = "window:10";  // image runs carry hundreds of points a frame: the window keeps them fast
   }
   std::string dataset_dir;
   std::string sequence;                 // KITTI tracking layout: which sequence
@@ -21,8 +20,6 @@ struct RunCommandOptions : CommonRunOptions {
   std::vector<std::string> methods = {"ours", "static_only", "slam_mot"};
 };
 
-// The motion model `dslam run` uses unless told otherwise (as kitti-replay).
-constexpr const char* kRunDefaultMode = "smoothed";
 
 // `dslam run`: the image front-end over a recorded or rendered sequence, then ours, static-only and
 // SLAM+MOT; result files, metrics when the dataset has ground truth, figures. Exit codes: 0 done,

@@ -9,10 +9,8 @@
 
 namespace dslam {
 
-RunConfig BuildRunConfig(const CommonRunOptions& options, const std::string& default_mode) {
-  RunConfig base;
-  base.backend.default_mode = ParseMotionMode(default_mode);
-  if (options.default_schedule) base.backend.schedule = ParseSchedule(*options.default_schedule);
+RunConfig BuildRunConfig(const CommonRunOptions& options, EntryPoint entry, const std::string& scenario) {
+  RunConfig base = DefaultRunConfig(entry, scenario);
   if (!(options.sigma_m > 0.0)) throw std::invalid_argument("--sigma must be positive");
   base.backend.noise.point_sigma_m = options.sigma_m;
   RunConfig config = options.config_path ? LoadRunConfig(*options.config_path, base) : base;

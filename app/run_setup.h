@@ -10,6 +10,7 @@
 
 #include "output/run_report.h"
 #include "pipeline/run_config.h"
+#include "pipeline/run_defaults.h"
 
 namespace dslam {
 
@@ -17,7 +18,6 @@ struct CommonRunOptions {
   std::optional<std::string> config_path;
   std::optional<std::string> mode;      // overrides the configuration's motion model
   std::optional<std::string> schedule;  // overrides the configuration's schedule
-  std::optional<std::string> default_schedule;  // the command's own default, under the configuration file
   double sigma_m = 0.02;                // point noise: simulated and assumed by the back-end
   bool sigma_given = true;              // --sigma was typed (else the file's point_sigma_m wins over it)
   uint64_t seed = 1;
@@ -27,11 +27,11 @@ struct CommonRunOptions {
   double figure_scale = 1.0;  // FigureOptions::scale of those figures
 };
 
-// Settings in this order, each over the previous: built-in defaults; the command's defaults
-// (`default_mode`, default_schedule, sigma_m); the configuration file; the flags the user typed (--mode,
-// --schedule, --sigma when sigma_given).
+// Settings in this order, each over the previous: built-in defaults; the entry point's defaults
+// (pipeline/run_defaults.h; `scenario`: sim's) and sigma_m; the configuration file; the flags the user typed
+// (--mode, --schedule, --sigma when sigma_given).
 // Throws std::invalid_argument with a message naming the bad option.
-RunConfig BuildRunConfig(const CommonRunOptions& options, const std::string& default_mode);
+RunConfig BuildRunConfig(const CommonRunOptions& options, EntryPoint entry, const std::string& scenario = "");
 
 // Creates --out and checks that files can be written in it, before any computation: an unwritable
 // folder found only at the end loses the whole run. Throws std::runtime_error naming the folder.

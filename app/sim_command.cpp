@@ -11,7 +11,7 @@ namespace dslam {
 int RunSimCommand(const SimCommandOptions& options, std::ostream& out, std::ostream& err) {
   try {
     const auto start = std::chrono::steady_clock::now();
-    const RunConfig config = BuildRunConfig(options, ScenarioDefaultMotionMode(options.scenario));
+    const RunConfig config = BuildRunConfig(options, EntryPoint::kSim, options.scenario);
 
     ScenarioOptions scenario;
     scenario.seed = options.seed;

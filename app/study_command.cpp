@@ -120,7 +120,7 @@ int RunStudyCommand(const StudyCommandOptions& options, std::ostream& out, std::
   try {
     const auto start = std::chrono::steady_clock::now();
     if (options.frames < 0) throw std::invalid_argument("--frames must be >= 0");
-    const RunConfig base = BuildRunConfig(options, "smoothed");
+    const RunConfig base = BuildRunConfig(options, EntryPoint::kStudy);
     RequireWritableOutDir(options.out_dir);
     namespace fs = std::filesystem;
     const fs::path dir(options.dataset_dir);

@@ -16,7 +16,6 @@ namespace dslam {
 struct StudyCommandOptions : CommonRunOptions {
   StudyCommandOptions() {
     out_dir = "results/study";
-    default_schedule = "window:10";
     sigma_given = false;  // the configuration file's point sigma, else the default
   }
   std::string dataset_dir;  // rendered with `render-scene --stereo --exact-flow`

@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
   dslam::SimCommandOptions options;  // the command's defaults
   options.scenario = scenario;
   options.schedule = "window:10";
-  const dslam::RunConfig config = dslam::BuildRunConfig(options, dslam::ScenarioDefaultMotionMode(scenario));
+  const dslam::RunConfig config = dslam::BuildRunConfig(options, dslam::EntryPoint::kSim, scenario);
   dslam::ScenarioOptions world;
   world.num_frames = frames;
   std::printf("building the %s world for %d frames ...\n", scenario.c_str(), frames);

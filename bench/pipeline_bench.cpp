@@ -67,9 +67,7 @@ int main(int argc, char** argv) {
   }
   dir = dslam::bench::DatasetOrRenderedCity(dir, max_frames, "dslam_bench_pipeline_city");
   if (dir.empty()) return 1;
-  dslam::RunConfig config;  // as `dslam run` by default: ours smoothed, window of 10
-  config.backend.default_mode = dslam::ParseMotionMode(dslam::kRunDefaultMode);
-  config.backend.schedule = dslam::ParseSchedule(dslam::RunCommandOptions().default_schedule.value());
+  const dslam::RunConfig config = dslam::DefaultRunConfig(dslam::EntryPoint::kRun);  // ours smoothed, window of 10
   const dslam::ImageDataset data(dir, config.dataset);
   const int frames = std::min(max_frames, data.size());
   std::vector<dslam::ImageFrame> images;

@@ -15,7 +15,7 @@
 #include "simulation/scenarios.h"
 #include "support/crossing_checks.h"
 #include "support/no_display.h"
-#include "support/run_defaults.h"
+#include "pipeline/run_defaults.h"
 #include "support/temp_paths.h"
 
 namespace dslam {
@@ -30,7 +30,7 @@ TEST(RenderedCrossing, CarsCrossingAndOncomingAreTrackedAndTheStopAndGoCarStands
   std::ostringstream out, err;
   ASSERT_EQ(RunRenderSceneCommand(render, out, err), 0) << err.str();
 
-  const RunConfig config = test::DslamRunDefaults();
+  const RunConfig config = DefaultRunConfig(EntryPoint::kRun);
   const Sequence images = RunImageFrontend(ImageDataset(dir, config.dataset), config, 0, nullptr, nullptr);
   fs::remove_all(dir);
   RunSequenceOptions run;

@@ -16,7 +16,7 @@
 #include "simulation/kitti_replay.h"
 #include "support/shared_data.h"
 #include "support/no_display.h"
-#include "support/run_defaults.h"
+#include "pipeline/run_defaults.h"
 #include "support/temp_paths.h"
 
 namespace dslam {
@@ -35,7 +35,7 @@ TEST_P(RenderedKittiSequence, ImagePipelineMeetsTheTargetsOnVehicles) {
   std::ostringstream out, err;
   ASSERT_EQ(RunRenderSceneCommand(render, out, err), 0) << err.str();
 
-  const RunConfig config = test::DslamRunDefaults();
+  const RunConfig config = DefaultRunConfig(EntryPoint::kRun);
   ImageRunSummary summary;
   const Sequence images = RunImageFrontend(ImageDataset(dir, config.dataset), config, 0, nullptr, &summary);
   fs::remove_all(dir);
@@ -45,7 +45,7 @@ TEST_P(RenderedKittiSequence, ImagePipelineMeetsTheTargetsOnVehicles) {
   const MethodMetrics image_metrics = RunSequence(images, config, run).at(Method::kOurs).metrics;
 
   RunConfig replay_config;
-  replay_config.backend.default_mode = ParseMotionMode(kKittiReplayDefaultMode);
+  replay_config.backend.default_mode = DefaultsOf(EntryPoint::kKittiReplay).mode;
   const Sequence replay = MakeKittiReplay(LoadKittiGroundTruth(test::KittiTrackingDir(), seq), KittiReplayOptions{});
   const MethodMetrics replay_metrics = RunSequence(replay, replay_config, run).at(Method::kOurs).metrics;
 

@@ -27,7 +27,7 @@ MethodOutcomes Replay(const std::string& seq, double sigma, const std::vector<Me
   replay.seed = seed;
   const Sequence sequence = MakeKittiReplay(LoadKittiGroundTruth(test::KittiTrackingDir(), seq), replay);
   RunConfig config;
-  config.backend.default_mode = ParseMotionMode(kKittiReplayDefaultMode);
+  config.backend.default_mode = DefaultsOf(EntryPoint::kKittiReplay).mode;
   config.backend.noise.point_sigma_m = sigma;
   RunSequenceOptions run;
   run.methods = methods;

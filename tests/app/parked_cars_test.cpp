@@ -8,14 +8,14 @@
 #include "pipeline/image_run.h"
 #include "pipeline/run_sequence.h"
 #include "support/rendered_city.h"
-#include "support/run_defaults.h"
+#include "pipeline/run_defaults.h"
 
 namespace dslam {
 namespace {
 
 TEST(ParkedCars, NoParkedCarOfTheRenderedCityIsReportedMoving) {
   const std::string dir = test::RenderedCity("parked_cars_city", 60);
-  const RunConfig config = test::DslamRunDefaults();
+  const RunConfig config = DefaultRunConfig(EntryPoint::kRun);
   const Sequence images = RunImageFrontend(ImageDataset(dir, config.dataset), config, 0, nullptr, nullptr);
   RunSequenceOptions run;
   run.methods = {Method::kOurs};

@@ -26,7 +26,7 @@ TEST(SettingsOrder, TheFileWinsOverTheCommandsDefaultsAndTypedFlagsWinOverTheFil
   RunCommandOptions run;  // dslam run: smoothed, window:10, sigma 0.02 by default
   run.config_path = file;
   run.sigma_given = false;
-  RunConfig c = BuildRunConfig(run, kRunDefaultMode);
+  RunConfig c = BuildRunConfig(run, EntryPoint::kRun);
   EXPECT_EQ(c.backend.default_mode, MotionMode::kConstant);
   EXPECT_EQ(ToString(c.backend.schedule), "window:6");
   EXPECT_DOUBLE_EQ(c.backend.noise.point_sigma_m, 0.05);
@@ -34,7 +34,7 @@ TEST(SettingsOrder, TheFileWinsOverTheCommandsDefaultsAndTypedFlagsWinOverTheFil
   run.mode = "per-step";
   run.schedule = "batch";
   run.sigma_m = 0.03, run.sigma_given = true;
-  c = BuildRunConfig(run, kRunDefaultMode);
+  c = BuildRunConfig(run, EntryPoint::kRun);
   EXPECT_EQ(c.backend.default_mode, MotionMode::kPerStep);
   EXPECT_EQ(ToString(c.backend.schedule), "batch");
   EXPECT_DOUBLE_EQ(c.backend.noise.point_sigma_m, 0.03);
@@ -43,7 +43,7 @@ TEST(SettingsOrder, TheFileWinsOverTheCommandsDefaultsAndTypedFlagsWinOverTheFil
   run = RunCommandOptions();
   run.config_path = ConfigFile("other.yaml", "classifier:\n  min_static_inliers: 12\n");
   run.sigma_given = false;
-  c = BuildRunConfig(run, kRunDefaultMode);
+  c = BuildRunConfig(run, EntryPoint::kRun);
   EXPECT_EQ(c.backend.default_mode, MotionMode::kSmoothed);
   EXPECT_EQ(ToString(c.backend.schedule), "window:10");
   EXPECT_DOUBLE_EQ(c.backend.noise.point_sigma_m, 0.02);

@@ -21,7 +21,7 @@
 #include "pipeline/run_sequence.h"
 #include "support/shared_data.h"
 #include "support/no_display.h"
-#include "support/run_defaults.h"
+#include "pipeline/run_defaults.h"
 #include "support/temp_paths.h"
 
 namespace dslam {
@@ -69,7 +69,7 @@ std::string* ShortRenderedKitti::dir_ = nullptr;
 
 TEST_F(ShortRenderedKitti, TheStereoConfigurationMeetsTheObjectTargetsAndItsDepthNoiseModelPays) {
   const RunConfig shipped = LoadRunConfig(std::string(DSLAM_SOURCE_DIR) + "/config/kitti_stereo.yaml");
-  RunConfig config = test::DslamRunDefaults();
+  RunConfig config = DefaultRunConfig(EntryPoint::kRun);
   config.dataset = shipped.dataset;
   config.backend.noise = shipped.backend.noise;
   ASSERT_EQ(config.dataset.depth_encoding, "stereo");
@@ -90,7 +90,7 @@ TEST_F(ShortRenderedKitti, TheStereoConfigurationMeetsTheObjectTargetsAndItsDept
 }
 
 TEST_F(ShortRenderedKitti, MasksFromTheLidarAreMatchedToTheTruthAndMeetTheObjectTargets) {
-  RunConfig config = test::DslamRunDefaults();
+  RunConfig config = DefaultRunConfig(EntryPoint::kRun);
   config.frontend.association.mask_ids_tracked = false;
   config.masks.source = MaskSourceKind::kLidarClusters;
   config.masks.lidar_from_depth = true;

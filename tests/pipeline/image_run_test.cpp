@@ -11,6 +11,7 @@
 
 #include "app/run_command.h"
 #include "output/trajectory_io.h"
+#include "pipeline/run_defaults.h"
 #include "pipeline/run_sequence.h"
 #include "support/rendered_city.h"
 #include "support/same_run.h"
@@ -19,16 +20,9 @@
 namespace dslam {
 namespace {
 
-RunConfig RunDefaults() {
-  RunConfig config;
-  config.backend.default_mode = ParseMotionMode(kRunDefaultMode);
-  config.backend.schedule = ParseSchedule(RunCommandOptions().default_schedule.value());
-  return config;
-}
-
 TEST(ImageRun, TheStreamedRunEqualsTheFrontEndFollowedByTheCollectedMethods) {
   const std::string dir = test::RenderedCity("staged_city", 12);
-  const RunConfig config = RunDefaults();
+  const RunConfig config = DefaultRunConfig(EntryPoint::kRun);
   const ImageDataset data(dir, config.dataset);
 
   ImageRunSummary frontend_summary;
@@ -76,7 +70,7 @@ TEST(ImageRun, TheStreamedRunEqualsTheFrontEndFollowedByTheCollectedMethods) {
 // A baseline alone runs without ours (nothing of ours is written), and gets what it gets beside ours.
 TEST(ImageRun, ABaselineAloneRunsWithoutOurs) {
   const std::string dir = test::RenderedCity("staged_city", 12);
-  const RunConfig config = RunDefaults();
+  const RunConfig config = DefaultRunConfig(EntryPoint::kRun);
   const ImageDataset data(dir, config.dataset);
   const Sequence seq = RunImageFrontend(data, config, 0, nullptr, nullptr);
   RunSequenceOptions collected_run;
@@ -101,7 +95,7 @@ TEST(ImageRun, ABaselineAloneRunsWithoutOurs) {
 // back where it started.
 TEST(ImageRun, ReplaysTheDatasetForwardsAndBackwardsAsOneDrive) {
   const std::string dir = test::RenderedCity("staged_city", 12);
-  const RunConfig config = RunDefaults();
+  const RunConfig config = DefaultRunConfig(EntryPoint::kRun);
   const ImageDataset data(dir, config.dataset);
   ImageRunOptions run;
   run.out_dir = test::TempPath("image_run_ping_pong");

@@ -21,13 +21,6 @@
 namespace dslam {
 namespace {
 
-RunConfig RunDefaults() {
-  RunConfig config;
-  config.backend.default_mode = ParseMotionMode(kRunDefaultMode);
-  config.backend.schedule = ParseSchedule(RunCommandOptions().default_schedule.value());
-  return config;
-}
-
 void ExpectSame(const FrameEstimate& a, const FrameEstimate& b) {
   EXPECT_EQ(a.t_ns, b.t_ns);
   EXPECT_EQ(a.frame, b.frame);
@@ -41,7 +34,7 @@ void ExpectSame(const FrameEstimate& a, const FrameEstimate& b) {
 
 TEST(StagedPipeline, EqualsTheSequentialPipelineAndCarriesARejectedFramesOdometry) {
   const std::string dir = test::RenderedCity("staged_city", 12);
-  const RunConfig config = RunDefaults();
+  const RunConfig config = DefaultRunConfig(EntryPoint::kRun);
   const ImageDataset data(dir, config.dataset);
   constexpr int kRejected = 5;
 
@@ -106,7 +99,7 @@ TEST(StagedPipeline, EqualsTheSequentialPipelineAndCarriesARejectedFramesOdometr
 
 TEST(StagedPipeline, PushNewestDropsWaitingFramesAndCarriesTheirOdometryOn) {
   const std::string dir = test::RenderedCity("staged_city", 12);
-  const RunConfig config = RunDefaults();
+  const RunConfig config = DefaultRunConfig(EntryPoint::kRun);
   const ImageDataset data(dir, config.dataset);
   VehiclePipeline sequential(config, data.camera(), data.frameRateHz());
   std::map<int64_t, Vec3> reference;
@@ -140,7 +133,7 @@ TEST(StagedPipeline, ACameraWithoutASizeTakesItFromTheFirstFrameThatFitsItsIntri
   // serve knows the intrinsics only: three tiny frames first used to fix the size, and every real frame
   // was rejected for the rest of the session.
   const std::string dir = test::RenderedCity("staged_city", 12);
-  const RunConfig config = RunDefaults();
+  const RunConfig config = DefaultRunConfig(EntryPoint::kRun);
   const ImageDataset data(dir, config.dataset);
   PinholeCamera intrinsics = data.camera();
   EXPECT_EQ(FindSizeMismatch(intrinsics, intrinsics.width, intrinsics.height), "");
@@ -176,7 +169,7 @@ TEST(StagedPipeline, ACameraWithoutASizeTakesItFromTheFirstFrameThatFitsItsIntri
 
 TEST(StagedPipeline, WithoutARejectionHandlerABadFrameStopsItAndFinishThrowsTheError) {
   const std::string dir = test::RenderedCity("staged_city", 12);
-  const RunConfig config = RunDefaults();
+  const RunConfig config = DefaultRunConfig(EntryPoint::kRun);
   const ImageDataset data(dir, config.dataset);
   StagedPipeline staged(config, data.camera(), data.frameRateHz(), 2, {});
   ASSERT_TRUE(staged.push(data.read(0)));
@@ -191,7 +184,7 @@ TEST(StagedPipeline, WithoutARejectionHandlerABadFrameStopsItAndFinishThrowsTheE
 
 TEST(StagedPipeline, AsAServiceItKeepsNothingPerFrameAndItsFilesHoldEveryEstimate) {
   const std::string dir = test::RenderedCity("staged_city", 12);
-  const RunConfig config = RunDefaults();
+  const RunConfig config = DefaultRunConfig(EntryPoint::kRun);
   const ImageDataset data(dir, config.dataset);
   VehiclePipeline sequential(config, data.camera(), data.frameRateHz());
   for (int k = 0; k < data.size(); ++k) sequential.process(data.read(k));

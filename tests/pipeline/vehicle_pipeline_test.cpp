@@ -9,7 +9,7 @@
 #include "pipeline/image_run.h"
 #include "pipeline/run_sequence.h"
 #include "support/rendered_city.h"
-#include "support/run_defaults.h"
+#include "pipeline/run_defaults.h"
 #include "support/temp_paths.h"
 
 namespace dslam {
@@ -17,7 +17,7 @@ namespace {
 
 TEST(VehiclePipeline, MatchesTheOnlineEstimatesOfDslamRun) {
   const std::string dir = test::RenderedCity("pipeline_city", 15);
-  const RunConfig config = test::DslamRunDefaults();
+  const RunConfig config = DefaultRunConfig(EntryPoint::kRun);
   const ImageDataset data(dir, config.dataset);
   RunSequenceOptions run;
   run.methods = {Method::kOurs};
