@@ -262,14 +262,12 @@ ImageRunResult RunImageStreamed(const ImageDataset& dataset, const RunConfig& co
   std::mutex outputs_mutex;
   std::optional<GroundTruth> gt;
   if (dataset.groundTruth() && !options.ping_pong) gt = ToUnobservedGroundTruth(*dataset.groundTruth(), frames);
-  std::map<Method, std::unique_ptr<MethodOutput>> outputs;
+  MethodOutputs outputs =
+      MakeMethodOutputs(options.methods, options.out_dir, gt ? &*gt : nullptr, rate, options.object_category);
   std::vector<std::unique_ptr<EstimateSink>> wrappers;
   std::map<Method, EstimateSink*> sinks;
   KeptMotions kept(options.keep_motions_of);
-  for (Method method : options.methods) {
-    auto& output = outputs[method];
-    if (output) continue;
-    output = std::make_unique<MethodOutput>(method, options.out_dir, gt ? &*gt : nullptr, rate, options.object_category);
+  for (auto& [method, output] : outputs) {
     EstimateSink* sink = output.get();
     if (method == Method::kOurs && !options.keep_motions_of.empty())
       sink = wrappers.emplace_back(std::make_unique<TeeSink>(sink, &kept)).get();
@@ -323,13 +321,8 @@ ImageRunResult RunImageStreamed(const ImageDataset& dataset, const RunConfig& co
   result.summary = recorder.summary(read_s);
   result.summary.latency = latency.summary();
   result.summary.has_ground_truth = gt.has_value();
-  for (auto& [method, output] : outputs) {
-    output->finish();
-    MethodOutcome& outcome = result.outcomes[method];
-    outcome.metrics = output->metrics();
-    outcome.result.wall_time_s = pipeline.wallTimeS(method);
-    if (method == Method::kOurs) result.ours_objects = output->objects();
-  }
+  result.outcomes =
+      FinishMethodOutputs(outputs, [&](Method m) { return pipeline.wallTimeS(m); }, &result.ours_objects);
   result.kept_motions = std::move(kept.kept);
   if (!options.out_dir.empty()) {
     WriteGroundTruthFiles(options.out_dir, gt ? *gt : GroundTruth{}, t_ns);

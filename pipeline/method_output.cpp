@@ -57,4 +57,25 @@ std::vector<ObjectSummary> MethodOutput::objects() const {
   return evaluator_ ? evaluator_->objects() : std::vector<ObjectSummary>{};
 }
 
+MethodOutputs MakeMethodOutputs(const std::vector<Method>& methods, const std::string& dir, const GroundTruth* gt,
+                                double frame_rate_hz, const std::string& category) {
+  MethodOutputs outputs;
+  for (Method method : methods)
+    if (!outputs.count(method)) outputs[method] = std::make_unique<MethodOutput>(method, dir, gt, frame_rate_hz, category);
+  return outputs;
+}
+
+MethodOutcomes FinishMethodOutputs(MethodOutputs& outputs, const std::function<double(Method)>& wall_time_s,
+                                   std::vector<ObjectSummary>* ours_objects) {
+  MethodOutcomes outcomes;
+  for (auto& [method, output] : outputs) {
+    output->finish();
+    MethodOutcome& outcome = outcomes[method];
+    outcome.metrics = output->metrics();
+    outcome.result.wall_time_s = wall_time_s(method);
+    if (method == Method::kOurs) *ours_objects = output->objects();
+  }
+  return outcomes;
+}
+
 }  // namespace dslam

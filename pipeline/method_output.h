@@ -4,6 +4,8 @@
 // estimates as they become final. Used by every streamed run (`sim`, `kitti-replay`, `run`).
 
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -11,6 +13,7 @@
 
 #include "backend/methods.h"
 #include "evaluation/streaming_evaluator.h"
+#include "output/run_report.h"
 #include "output/streaming_sink.h"
 
 namespace dslam {
@@ -45,5 +48,15 @@ class MethodOutput : public EstimateSink {
   std::optional<StreamingEvaluator> evaluator_;
   std::optional<StreamingFileSink> files_;
 };
+
+// One output per method named (a method named twice gets one), as MethodOutput's arguments say.
+using MethodOutputs = std::map<Method, std::unique_ptr<MethodOutput>>;
+MethodOutputs MakeMethodOutputs(const std::vector<Method>& methods, const std::string& dir, const GroundTruth* gt,
+                                double frame_rate_hz, const std::string& category);
+
+// After the methods' last estimates: completes every output's files and returns each method's metrics
+// with its estimators' time (`wall_time_s(method)`); `ours_objects` receives ours' per-object summary.
+MethodOutcomes FinishMethodOutputs(MethodOutputs& outputs, const std::function<double(Method)>& wall_time_s,
+                                   std::vector<ObjectSummary>* ours_objects);
 
 }  // namespace dslam

@@ -19,14 +19,9 @@ StreamedRunResult RunStreamed(SensorSimulator* simulator, const RunConfig& confi
   const GroundTruth& gt = simulator->groundTruth();
   const double rate = simulator->frameRateHz();
 
-  std::map<Method, std::unique_ptr<MethodOutput>> outputs;
+  MethodOutputs outputs = MakeMethodOutputs(options.methods, options.out_dir, &gt, rate, options.object_category);
   std::map<Method, EstimateSink*> sinks;
-  for (Method method : options.methods) {
-    auto& output = outputs[method];
-    if (output) continue;
-    output = std::make_unique<MethodOutput>(method, options.out_dir, &gt, rate, options.object_category);
-    sinks[method] = output.get();
-  }
+  for (auto& [method, output] : outputs) sinks[method] = output.get();
   LockstepMethods methods(config, rate, sinks);
 
   const int total = simulator->numFrames();
@@ -48,13 +43,8 @@ StreamedRunResult RunStreamed(SensorSimulator* simulator, const RunConfig& confi
   methods.finish();
 
   StreamedRunResult result;
-  for (auto& [method, output] : outputs) {
-    output->finish();
-    MethodOutcome& outcome = result.outcomes[method];
-    outcome.metrics = output->metrics();
-    outcome.result.wall_time_s = methods.wallTimeS(method);
-    if (method == Method::kOurs) result.ours_objects = output->objects();
-  }
+  result.outcomes =
+      FinishMethodOutputs(outputs, [&](Method m) { return methods.wallTimeS(m); }, &result.ours_objects);
   WriteGroundTruthFiles(options.out_dir, gt, t_ns);
   if (outputs.count(Method::kOurs)) WriteObjectsCsv(options.out_dir + "/objects.csv", result.ours_objects);
   return result;
