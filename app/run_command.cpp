@@ -100,9 +100,13 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
                         {"odometry_rejected_frames", summary.odometry_rejected},
                         {"median_fb_error_px", summary.median_fb_error_px}};
     if (!summary.latency.empty()) info["latency_ms"] = LatencyJson(summary.latency);
+    if (!result.stopped_by.empty()) info["stopped_by"] = result.stopped_by;
     info["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     WriteMetricsJson(options.out_dir, outcomes, info);
-    if (overlays) WriteFrameOverlays(dataset, config, result.kept_motions, run.keep_motions_of, options.out_dir);
+    std::set<int> overlay_frames;  // those the run reached
+    for (int k : run.keep_motions_of)
+      if (k < summary.frames) overlay_frames.insert(k);
+    if (overlays) WriteFrameOverlays(dataset, config, result.kept_motions, overlay_frames, options.out_dir);
 
     out << "Front-end: " << summary.frontend_ms_per_frame << " ms/frame (reading " << summary.read_ms_per_frame
         << " ms/frame), " << summary.mean_static_tracks << " static and " << summary.mean_object_points
@@ -125,7 +129,13 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
       out << "No ground truth in " << options.dataset_dir << ": estimates written without metrics" << std::endl;
     }
     out << "Results written to " << options.out_dir << std::endl;
-    return DrawRunFigures(options, out, err);
+    const int figures = DrawRunFigures(options, out, err);
+    if (!result.stopped_by.empty()) {
+      err << "dslam run: error: " << result.stopped_by << " (the run stopped there; the " << summary.frames
+          << " frames before it were estimated and written to " << options.out_dir << ")" << std::endl;
+      return 2;
+    }
+    return figures;
   } catch (const std::exception& e) {
     err << "dslam run: error: " << e.what() << std::endl;
     return 2;

@@ -306,9 +306,19 @@ ImageRunResult RunImageStreamed(const ImageDataset& dataset, const RunConfig& co
   // estimates are discarded.
   StagedPipeline pipeline(config, dataset.camera(), rate, kQueueCapacity, callbacks, nullptr, /*collect=*/false, sinks);
   double read_s = 0.0;
+  std::string stopped_by;
   for (int k = 0; k < frames; ++k) {
     const int64_t received_ns = SteadyClockNs();
-    ImageFrame frame = reader.read(k);
+    ImageFrame frame;
+    try {
+      frame = reader.read(k);
+    } catch (const std::exception& e) {
+      // A frame that cannot be read ends the run there: the frames before it are estimated to the end and
+      // written whole, and the caller reports the error (nothing to keep when it is the first).
+      if (k == 0) throw;
+      stopped_by = e.what();
+      break;
+    }
     frame.timing.received_ns = received_ns;
     frame.timing.assembled_ns = SteadyClockNs();
     read_s += 1e-9 * static_cast<double>(frame.timing.assembled_ns - received_ns);
@@ -318,6 +328,7 @@ ImageRunResult RunImageStreamed(const ImageDataset& dataset, const RunConfig& co
   pipeline.finish();
 
   ImageRunResult result;
+  result.stopped_by = stopped_by;
   result.summary = recorder.summary(read_s);
   result.summary.latency = latency.summary();
   result.summary.has_ground_truth = gt.has_value();
@@ -325,6 +336,7 @@ ImageRunResult RunImageStreamed(const ImageDataset& dataset, const RunConfig& co
       FinishMethodOutputs(outputs, [&](Method m) { return pipeline.wallTimeS(m); }, &result.ours_objects);
   result.kept_motions = std::move(kept.kept);
   if (!options.out_dir.empty()) {
+    if (gt && gt->T_world_camera.size() > t_ns.size()) gt->T_world_camera.resize(t_ns.size());  // the frames run
     WriteGroundTruthFiles(options.out_dir, gt ? *gt : GroundTruth{}, t_ns);
     if (with_ours) WriteObjectsCsv(options.out_dir + "/objects.csv", result.ours_objects);
   }

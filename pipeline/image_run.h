@@ -63,6 +63,9 @@ struct ImageRunResult {
   MethodOutcomes outcomes;  // metrics (with ground truth) and wall times; the estimates are in the files
   std::vector<ObjectSummary> ours_objects;            // with ground truth
   std::vector<ObjectMotionEstimate> kept_motions;     // ours', of the frames in keep_motions_of
+  // Why the run stopped before the last frame (a frame that could not be read: the error, naming the file);
+  // empty when it ran to the end. The frames before it are estimated and their files written whole.
+  std::string stopped_by;
 };
 
 // `dslam run`'s one stream: this thread reads and decodes the files, the front-end runs on its own thread

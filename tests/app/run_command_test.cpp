@@ -197,5 +197,34 @@ TEST(RunCommand, BadInputGivesOneLineAndExitStatus2) {
   EXPECT_EQ(std::system((bin + " run --help > /dev/null").c_str()), 0);
 }
 
+// A frame that cannot be read mid-run ends the run there, keeping every frame before it estimated and written
+// whole; the error names the file and the exit status is 2.
+TEST(RunCommand, AFrameThatCannotBeReadEndsTheRunAndKeepsTheFramesBeforeIt) {
+  const std::string dir = test::TempDir("run_corrupt_frame");
+  fs::copy(CityDataset(), dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  const std::string corrupt = dir + "/image_0/000012.png";
+  ASSERT_TRUE(fs::exists(corrupt));
+  std::ofstream(corrupt, std::ios::trunc) << "not a png";
+  RunCommandOptions options;
+  options.dataset_dir = dir;
+  options.out_dir = test::TempPath("run_corrupt_frame_out");
+  options.no_figures = true;
+  std::ostringstream out, err;
+  EXPECT_EQ(RunRunCommand(options, out, err), 2);
+  EXPECT_NE(err.str().find("000012.png"), std::string::npos) << err.str();
+  EXPECT_NE(err.str().find("the 12 frames before it were estimated and written"), std::string::npos) << err.str();
+  std::ifstream in(options.out_dir + "/metrics.json");
+  const nlohmann::json metrics = nlohmann::json::parse(in);
+  EXPECT_EQ(metrics["run"]["frames"], 12);
+  EXPECT_NE(metrics["run"]["stopped_by"].get<std::string>().find("000012.png"), std::string::npos);
+  EXPECT_LT(metrics["methods"]["ours"]["rte_pct"].get<double>(), 2.0);  // evaluated over the frames run
+  for (const char* name : {"camera_ours.tum", "camera_static_only.tum", "camera_slam_mot.tum", "camera_gt.tum"}) {
+    std::ifstream tum(options.out_dir + "/" + name);
+    int lines = 0;
+    for (std::string line; std::getline(tum, line);) lines += !line.empty() && line[0] != '#';
+    EXPECT_EQ(lines, 12) << name;  // every frame before the bad one, its window flushed
+  }
+}
+
 }  // namespace
 }  // namespace dslam
