@@ -42,9 +42,10 @@ struct Calibration {
   double camera_step_nees = 0.0;  // of the cameras' steps, likewise
 };
 
-Calibration SpeedCalibration(const std::string& schedule, int num_frames) {
+Calibration SpeedCalibration(const std::string& schedule, int num_frames, uint64_t seed = 1) {
   ScenarioOptions opt;
   opt.num_frames = num_frames;
+  opt.seed = seed;
   const Sequence seq = MakeScenario("city", opt);
   std::vector<FrameMeasurement> frames = seq.frames;
   LabelDynamicObjects(ClassifierParams{}, seq.frame_rate_hz, &frames);
@@ -81,7 +82,7 @@ Calibration SpeedCalibration(const std::string& schedule, int num_frames) {
     EXPECT_TRUE(nees.has_value()) << "frame " << k;
     c.camera_step_nees += nees.value_or(0.0) / static_cast<double>(seq.frames.size() - 1);
   }
-  std::cout << schedule << ": speed errors within 1 sigma: " << c.within_1 << ", within 3 sigma: " << c.within_3
+  std::cout << schedule << ", seed " << seed << ": speed errors within 1 sigma: " << c.within_1 << ", within 3 sigma: " << c.within_3
             << ", motion NEES " << c.mean_nees << " (" << c.pairs << " pairs), camera step NEES "
             << c.camera_step_nees << std::endl;
   return c;
@@ -100,10 +101,13 @@ void ExpectCalibrated(const Calibration& c) {
 }
 
 TEST(MotionCovariance, TheSpeedSigmaOfTheSlidingWindowIsCalibratedOnTheSimulatedCity) {
-  // One cycle of the city: accelerating, braking, turning and stopping cars.
-  const Calibration c = SpeedCalibration("window:10", 300);
-  ASSERT_GT(c.pairs, 300);
-  ExpectCalibrated(c);
+  // One cycle of the city: accelerating, braking, turning and stopping cars; seeds 1-5 (noise and scene).
+  for (uint64_t seed = 1; seed <= 5; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const Calibration c = SpeedCalibration("window:10", 300, seed);
+    ASSERT_GT(c.pairs, 300);
+    ExpectCalibrated(c);
+  }
 }
 
 TEST(MotionCovariance, TheSpeedSigmaOfTheBatchIsCalibratedOnTheSimulatedCity) {
