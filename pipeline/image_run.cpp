@@ -76,6 +76,12 @@ class FrontendRecorder {
     return reference_ ? reference_->visible(k, label) : visible_.count({k, label}) > 0;
   }
 
+  // A streamed run has marked frame k in its ground truth (or has none): its masks need not be kept.
+  void forget(int k) {
+    visible_.erase(visible_.lower_bound({k, std::numeric_limits<int>::min()}),
+                   visible_.lower_bound({k + 1, std::numeric_limits<int>::min()}));
+  }
+
   // Marks in `gt` what frame k (recorded) saw, and with reference masks which run object each is.
   void observe(int k, double object_max_range_m, GroundTruth* gt) const {
     ObserveFrame(k, object_max_range_m, [&](int frame, int id) { return visible(frame, id); }, gt);
@@ -283,6 +289,7 @@ ImageRunResult RunImageStreamed(const ImageDataset& dataset, const RunConfig& co
     recorder.record(m, st, ms);
     std::lock_guard<std::mutex> lock(outputs_mutex);
     if (gt) recorder.observe(m.frame_index, config.frontend.object_max_distance_m, &*gt);
+    recorder.forget(m.frame_index);
     t_ns.push_back(m.t_ns);
     for (auto& [method, output] : outputs) output->frameMade(m.frame_index, m.t_ns);
   };
