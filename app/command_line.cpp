@@ -52,7 +52,9 @@ int RunCommandLine(int argc, char** argv) {
   sim_cmd->add_option("--mode", sim.mode,
                       "Object motion model: per-step, constant or smoothed (default: constant for paper, smoothed "
                       "for city and crossing)");
-  sim_cmd->add_option("--schedule", sim.schedule, "Solver schedule: batch (default) or window:W with W >= 2");
+  sim_cmd->add_option("--schedule", sim.schedule,
+                      "Solver schedule: " + dslam::ToString(dslam::DefaultsOf(dslam::EntryPoint::kSim).schedule) +
+                          " (default) or window:W with W >= 2");
   sim_cmd->add_option("--sigma", sim.sigma_m, "Point measurement noise sigma per axis, metres (0.0001 to 10)")
       ->check(CLI::Range(1e-4, 10.0))
       ->capture_default_str();
@@ -81,7 +83,10 @@ int RunCommandLine(int argc, char** argv) {
   replay_cmd->add_option("--mode", replay.mode,
                          std::string("Object motion model: per-step, constant or smoothed (default ") +
                              dslam::ToString(dslam::DefaultsOf(dslam::EntryPoint::kKittiReplay).mode) + ")");
-  replay_cmd->add_option("--schedule", replay.schedule, "Solver schedule: batch (default) or window:W");
+  replay_cmd->add_option("--schedule", replay.schedule,
+                         "Solver schedule: " +
+                             dslam::ToString(dslam::DefaultsOf(dslam::EntryPoint::kKittiReplay).schedule) +
+                             " (default) or window:W");
   replay_cmd->add_option("--category", replay.category,
                          "Object category the metrics cover (VEHICLE, PEDESTRIAN, BICYCLE; empty = all)")
       ->capture_default_str();
