@@ -48,4 +48,8 @@ struct GroundTruth {
   bool pointWorld(int64_t track_id, int frame, Vec3* p_world) const;
 };
 
+// Keeps the first `frames` frames (a run that stopped early): camera poses and each object's per-frame
+// entries beyond them go, and objects with none left.
+void TruncateGroundTruth(int frames, GroundTruth* gt);
+
 }  // namespace dslam

@@ -309,8 +309,7 @@ ImageRunResult RunImageStreamed(const ImageDataset& dataset, const RunConfig& co
       *options.progress << "  methods: frame " << e.frame + 1 << "/" << frames << std::endl;
     }
   };
-  // Ours always runs in the back-end stage (its estimate is each frame's); without a sink of its own its
-  // estimates are discarded.
+  // Ours runs when asked for; without it, each frame's estimate (on_estimate) is static-only's.
   StagedPipeline pipeline(config, dataset.camera(), rate, kQueueCapacity, callbacks, nullptr, /*collect=*/false, sinks);
   double read_s = 0.0;
   std::string stopped_by;
@@ -343,7 +342,7 @@ ImageRunResult RunImageStreamed(const ImageDataset& dataset, const RunConfig& co
       FinishMethodOutputs(outputs, [&](Method m) { return pipeline.wallTimeS(m); }, &result.ours_objects);
   result.kept_motions = std::move(kept.kept);
   if (!options.out_dir.empty()) {
-    if (gt && gt->T_world_camera.size() > t_ns.size()) gt->T_world_camera.resize(t_ns.size());  // the frames run
+    if (gt && !stopped_by.empty()) TruncateGroundTruth(static_cast<int>(t_ns.size()), &*gt);  // the frames run
     WriteGroundTruthFiles(options.out_dir, gt ? *gt : GroundTruth{}, t_ns);
     if (with_ours) WriteObjectsCsv(options.out_dir + "/objects.csv", result.ours_objects);
   }

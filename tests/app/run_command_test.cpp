@@ -224,6 +224,12 @@ TEST(RunCommand, AFrameThatCannotBeReadEndsTheRunAndKeepsTheFramesBeforeIt) {
     for (std::string line; std::getline(tum, line);) lines += !line.empty() && line[0] != '#';
     EXPECT_EQ(lines, 12) << name;  // every frame before the bad one, its window flushed
   }
+  std::ifstream centroids(options.out_dir + "/object_centroids_gt.csv");
+  std::string row;
+  std::getline(centroids, row);  // header
+  int rows = 0;
+  for (; std::getline(centroids, row); ++rows) EXPECT_LT(std::stoi(row), 12) << row;  // only the frames run
+  EXPECT_GT(rows, 0);
 }
 
 }  // namespace
