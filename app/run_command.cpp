@@ -6,6 +6,7 @@
 #include <exception>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 #include "output/frame_overlay.h"
 #include "output/object_summary.h"
@@ -108,27 +109,29 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
       if (k < summary.frames) overlay_frames.insert(k);
     if (overlays) WriteFrameOverlays(dataset, config, result.kept_motions, overlay_frames, options.out_dir);
 
-    out << "Front-end: " << summary.frontend_ms_per_frame << " ms/frame (reading " << summary.read_ms_per_frame
+    std::ostringstream discarded;  // --quiet: only errors
+    std::ostream& report = options.quiet ? discarded : out;
+    report << "Front-end: " << summary.frontend_ms_per_frame << " ms/frame (reading " << summary.read_ms_per_frame
         << " ms/frame), " << summary.mean_static_tracks << " static and " << summary.mean_object_points
         << " object points per frame, " << summary.mean_pnp_inliers << " PnP inliers, median forward-backward error "
         << summary.median_fb_error_px << " px" << std::endl;
     if (!summary.latency.empty())
-      out << "Latency per stage, ms (median/p99): " << FormatLatencyLine(summary.latency) << std::endl;
+      report << "Latency per stage, ms (median/p99): " << FormatLatencyLine(summary.latency) << std::endl;
     if (summary.odometry_rejected > 0)
-      out << "Odometry dropped on " << summary.odometry_rejected
+      report << "Odometry dropped on " << summary.odometry_rejected
           << " frame(s): it contradicted the camera motion the static points gave (frontend.csv column odometry_rejected)"
           << std::endl;
     if (summary.has_ground_truth) {
       const std::string what = options.category.empty() ? "all objects" : options.category + " objects";
-      out << FormatMetricsTable(outcomes, "Image run on " + dataset.name() + " (" + what + " within " +
+      report << FormatMetricsTable(outcomes, "Image run on " + dataset.name() + " (" + what + " within " +
                                               std::to_string(static_cast<int>(config.frontend.object_max_distance_m)) +
                                               " m, mode " + ToString(config.backend.default_mode) + ")");
       if (outcomes.count(Method::kOurs))
-        out << FormatObjectTable(result.ours_objects, "Per object (ours)");
+        report << FormatObjectTable(result.ours_objects, "Per object (ours)");
     } else {
-      out << "No ground truth in " << options.dataset_dir << ": estimates written without metrics" << std::endl;
+      report << "No ground truth in " << options.dataset_dir << ": estimates written without metrics" << std::endl;
     }
-    out << "Results written to " << options.out_dir << std::endl;
+    report << "Results written to " << options.out_dir << std::endl;
     const int figures = DrawRunFigures(options, out, err);
     if (!result.stopped_by.empty()) {
       err << "dslam run: error: " << result.stopped_by << " (the run stopped there; the " << summary.frames
