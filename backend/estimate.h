@@ -77,22 +77,30 @@ class CollectingSink : public EstimateSink {
 };
 
 // Hands every estimate to each of its sinks in turn (e.g. files as they become final, and a collection
-// for the evaluation at the end).
+// for the evaluation at the end); null sinks are left out.
 class TeeSink : public EstimateSink {
  public:
-  TeeSink(EstimateSink* a, EstimateSink* b) : a_(a), b_(b) {}
-  void cameraFinal(int frame, const SE3& T_world_camera) override {
-    a_->cameraFinal(frame, T_world_camera), b_->cameraFinal(frame, T_world_camera);
+  TeeSink() = default;
+  TeeSink(EstimateSink* a, EstimateSink* b) { add(a), add(b); }
+  void add(EstimateSink* sink) {
+    if (sink) sinks_.push_back(sink);
   }
-  void motionFinal(const ObjectMotionEstimate& motion) override { a_->motionFinal(motion), b_->motionFinal(motion); }
-  void pointFinal(const PointEstimate& point) override { a_->pointFinal(point), b_->pointFinal(point); }
+  bool empty() const { return sinks_.empty(); }
+  void cameraFinal(int frame, const SE3& T_world_camera) override {
+    for (EstimateSink* s : sinks_) s->cameraFinal(frame, T_world_camera);
+  }
+  void motionFinal(const ObjectMotionEstimate& motion) override {
+    for (EstimateSink* s : sinks_) s->motionFinal(motion);
+  }
+  void pointFinal(const PointEstimate& point) override {
+    for (EstimateSink* s : sinks_) s->pointFinal(point);
+  }
   void cameraStepCovariance(int frame, const Mat6& covariance) override {
-    a_->cameraStepCovariance(frame, covariance), b_->cameraStepCovariance(frame, covariance);
+    for (EstimateSink* s : sinks_) s->cameraStepCovariance(frame, covariance);
   }
 
  private:
-  EstimateSink* a_;
-  EstimateSink* b_;
+  std::vector<EstimateSink*> sinks_;
 };
 
 }  // namespace dslam

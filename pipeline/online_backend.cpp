@@ -7,19 +7,6 @@
 
 namespace dslam {
 
-void OnlineBackend::OursSinks::cameraFinal(int frame, const SE3& T_world_camera) {
-  for (EstimateSink* s : sinks_) s->cameraFinal(frame, T_world_camera);
-}
-void OnlineBackend::OursSinks::motionFinal(const ObjectMotionEstimate& motion) {
-  for (EstimateSink* s : sinks_) s->motionFinal(motion);
-}
-void OnlineBackend::OursSinks::pointFinal(const PointEstimate& point) {
-  for (EstimateSink* s : sinks_) s->pointFinal(point);
-}
-void OnlineBackend::OursSinks::cameraStepCovariance(int frame, const Mat6& covariance) {
-  for (EstimateSink* s : sinks_) s->cameraStepCovariance(frame, covariance);
-}
-
 // Called from the constructor's initialiser list, before methods_ is built (members above it exist).
 std::map<Method, EstimateSink*> OnlineBackend::methodSinks(const std::map<Method, EstimateSink*>& sinks) {
   if (collect_) ours_sinks_.add(&collected_);

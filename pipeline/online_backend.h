@@ -6,7 +6,6 @@
 // frame's measurement.
 
 #include <map>
-#include <vector>
 
 #include "backend/estimator.h"
 #include "backend/methods.h"
@@ -46,27 +45,12 @@ class OnlineBackend {
   MethodResult finish();
 
  private:
-  // Ours' sinks: the collection, the stream and the caller's, each when there is one.
-  class OursSinks : public EstimateSink {
-   public:
-    void add(EstimateSink* sink) {
-      if (sink) sinks_.push_back(sink);
-    }
-    bool empty() const { return sinks_.empty(); }
-    void cameraFinal(int frame, const SE3& T_world_camera) override;
-    void motionFinal(const ObjectMotionEstimate& motion) override;
-    void pointFinal(const PointEstimate& point) override;
-    void cameraStepCovariance(int frame, const Mat6& covariance) override;
-
-   private:
-    std::vector<EstimateSink*> sinks_;
-  };
   std::map<Method, EstimateSink*> methodSinks(const std::map<Method, EstimateSink*>& sinks);
 
   StreamingFileSink* stream_;
   bool collect_;
   CollectingSink collected_;
-  OursSinks ours_sinks_;
+  TeeSink ours_sinks_;  // the collection, the stream and the caller's sink for ours, each when there is one
   LockstepMethods methods_;
   MethodResult result_;
   int frames_added_ = 0;
