@@ -72,7 +72,7 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
         run.methods.push_back(m);
     if (run.methods.empty()) throw std::invalid_argument("--methods names no method (ours, static_only, slam_mot)");
     const bool with_ours = std::find(run.methods.begin(), run.methods.end(), Method::kOurs) != run.methods.end();
-    const int frames = options.frames > 0 ? std::min(options.frames, dataset.size()) : dataset.size();
+    const int frames = FramesToRun(dataset, options.frames);
     const bool overlays = with_ours && (dataset.hasMasks() || config.masks.source != MaskSourceKind::kDataset);
     if (overlays)
       for (int k : OverlayFrames(frames, 4)) run.keep_motions_of.insert(k);

@@ -92,8 +92,6 @@ class FrontendRecorder {
       gt->run_object_ids->insert(*it);
   }
 
-  void setLatency(std::vector<StageLatencySummary> latency) { s_.latency = std::move(latency); }
-
   ImageRunSummary summary(double read_s) {
     ImageRunSummary s = s_;
     const int frames = frames_recorded_;
@@ -141,8 +139,7 @@ class FrameReader {
     }
   }
   ImageFrame read(int k) {
-    if (ping_pong_) return readPingPong(k);
-    ImageFrame frame = dataset_.read(k);
+    ImageFrame frame = ping_pong_ ? readPingPong(k) : dataset_.read(k);
     if (reference_ && !frame.instance_ids.empty()) reference_->keep(k, frame.instance_ids);
     ApplyMaskSource(masks_, dataset_.camera(), frame);
     return frame;
@@ -150,12 +147,12 @@ class FrameReader {
   const ReferenceObjectMatcher* reference() const { return reference_ ? &*reference_ : nullptr; }
 
  private:
-  ImageFrame readPingPong(int i) {
+  // Step i of the forwards-and-backwards drive, as recorded (no reference masks: nothing is evaluated).
+  ImageFrame readPingPong(int i) const {
     const int n = dataset_.size();
     ImageFrame frame = dataset_.read(PingPongFrame(i, n));
     const int64_t period_ns = static_cast<int64_t>(1e9 / dataset_.frameRateHz());
     ToPingPongStep(i, n, period_ns, [&](int k) { return dataset_.odometryAt(k); }, &frame);
-    ApplyMaskSource(masks_, dataset_.camera(), frame);
     return frame;
   }
 
@@ -207,11 +204,11 @@ class KeptMotions : public EstimateSink {
   const std::set<int>& frames_;
 };
 
+}  // namespace
+
 int FramesToRun(const ImageDataset& dataset, int max_frames) {
   return max_frames > 0 ? std::min(max_frames, dataset.size()) : dataset.size();
 }
-
-}  // namespace
 
 Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, int max_frames, std::ostream* progress,
                           ImageRunSummary* summary, std::ostream* frame_log) {

@@ -43,6 +43,9 @@ struct ImageRunSummary {
 Sequence RunImageFrontend(const ImageDataset& dataset, const RunConfig& config, int max_frames, std::ostream* progress,
                           ImageRunSummary* summary, std::ostream* frame_log = nullptr);
 
+// The frames a run of at most `max_frames` (<= 0: no limit) takes of the dataset.
+int FramesToRun(const ImageDataset& dataset, int max_frames);
+
 struct ImageRunOptions {
   std::vector<Method> methods = {Method::kOurs, Method::kStaticOnly, Method::kSlamMot};
   int max_frames = 0;                // <= 0: the whole dataset
