@@ -38,7 +38,9 @@ inline void ExpectSameMetrics(const MethodMetrics& streamed, const MethodMetrics
   const ObjectMetrics &s = *streamed.objects, &c = *collected.objects;
   EXPECT_EQ(s.gt_pairs, c.gt_pairs) << what;
   EXPECT_EQ(s.estimated_pairs, c.estimated_pairs) << what;
-  if (objects_estimated) EXPECT_GT(c.estimated_pairs, 0) << what;
+  if (objects_estimated) {
+    EXPECT_GT(c.estimated_pairs, 0) << what;
+  }
   ExpectNearOpt(s.omte_pct, c.omte_pct, what + " OMTE");
   ExpectNearOpt(s.omse_pct, c.omse_pct, what + " OMSE");
   ExpectNearOpt(s.object_coverage, c.object_coverage, what + " coverage");
@@ -61,7 +63,9 @@ inline void ExpectSameRows(const std::string& a_path, const std::string& b_path,
   EXPECT_EQ(std::multiset<std::vector<std::string>>(a.rows.begin(), a.rows.end()),
             std::multiset<std::vector<std::string>>(b.rows.begin(), b.rows.end()))
       << a_path;
-  if (non_empty) EXPECT_FALSE(a.rows.empty()) << a_path;
+  if (non_empty) {
+    EXPECT_FALSE(a.rows.empty()) << a_path;
+  }
 }
 
 }  // namespace dslam::test
