@@ -47,6 +47,8 @@ nlohmann::json ToJson(const LidarCheckReport& r) {
   j["camera"] = {{"path_length_m", r.path_length_m},     {"end_error_m", r.end_error_m},
                  {"end_error_pct", r.end_error_pct},     {"rte_pct", r.rte_pct},
                  {"rre_deg_per_m", r.rre_deg_per_m},     {"mean_step_rotation_error_deg", r.mean_step_rotation_error_deg}};
+  j["reference_noise"] = {{"median_step_disagreement_m", r.reference_noise.median_step_m},
+                          {"summed_pct_of_path", r.reference_noise.summed_pct_of_path}};
   j["vehicles"] = nlohmann::json::array();
   for (const auto& v : r.vehicles) {
     nlohmann::json o = {{"lidar_track_id", v.track_id},
@@ -103,6 +105,10 @@ int RunLidarCheckCommand(const LidarCheckCommandOptions& options, std::ostream& 
     out << "LiDAR reference of " << options.dataset_dir << ": " << frames << " scans, the camera ends at ("
         << Fixed(end.x(), 2) << ", " << Fixed(end.y(), 2) << ", " << Fixed(end.z(), 2) << ") m; written to "
         << options.out_dir << "/lidar_ego.tum and lidar_tracks.csv" << std::endl;
+    const LidarReferenceNoise noise = ReferenceNoise(reference);
+    out << "Its own step noise (each scan pair registered both ways): " << Fixed(1000.0 * noise.median_step_m, 1)
+        << " mm a frame (median), " << Fixed(noise.summed_pct_of_path, 2)
+        << " % of the path summed: the floor under a frame-to-frame comparison" << std::endl;
     if (options.run_dir.empty()) return 0;
 
     const RunResults run = ReadRunResults(options.run_dir);

@@ -19,6 +19,20 @@ double Median(std::vector<double> v) {
 
 }  // namespace
 
+LidarReferenceNoise ReferenceNoise(const LidarReference& reference) {
+  LidarReferenceNoise noise;
+  const auto& d = reference.ego_step_disagreement_m;
+  if (d.size() < 2) return noise;
+  noise.median_step_m = Median(std::vector<double>(d.begin() + 1, d.end()));
+  double path = 0.0, sum = 0.0;
+  for (size_t k = 1; k < d.size() && k < reference.T_world_camera.size(); ++k) {
+    path += (reference.T_world_camera[k].translation() - reference.T_world_camera[k - 1].translation()).norm();
+    sum += d[k];
+  }
+  if (path > 0.0) noise.summed_pct_of_path = 100.0 * sum / path;
+  return noise;
+}
+
 LidarCheckReport CompareWithLidar(const LidarReference& reference, const std::vector<SE3>& T_world_camera_run,
                                   const std::vector<RunObjectRow>& rows, const LidarCheckParams& params) {
   LidarCheckReport report;
@@ -42,6 +56,7 @@ LidarCheckReport CompareWithLidar(const LidarReference& reference, const std::ve
     report.rre_deg_per_m = re_deg / m.path_length_m;
   }
   report.mean_step_rotation_error_deg = re_deg / static_cast<double>(n - 1);
+  report.reference_noise = ReferenceNoise(reference);
 
   // Each run row at the LiDAR cluster nearest to its centroid in that frame.
   std::map<int, std::vector<const LidarTrackSample*>> samples_of_frame;

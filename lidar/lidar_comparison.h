@@ -27,6 +27,15 @@ struct LidarCheckParams {
   double standing_speed_mps = 0.5;       // a LiDAR cluster slower than this (windowed) is standing
 };
 
+// The reference's own frame-to-frame noise, from each scan pair registered both ways: the median
+// disagreement a step, and the sum over the path in % of its length (the floor under rte_pct below: a
+// camera that moved exactly as the car did would still show about this much).
+struct LidarReferenceNoise {
+  double median_step_m = 0.0;
+  double summed_pct_of_path = 0.0;
+};
+LidarReferenceNoise ReferenceNoise(const LidarReference& reference);
+
 struct LidarCheckReport {
   // Camera against the LiDAR registration (world = the first camera for both).
   int frames = 0;
@@ -35,6 +44,7 @@ struct LidarCheckReport {
   double rte_pct = 0.0;                           // frame to frame, % of the distance travelled
   double rre_deg_per_m = 0.0;
   double mean_step_rotation_error_deg = 0.0;
+  LidarReferenceNoise reference_noise;
   struct Vehicle {
     int track_id = 0;
     int frames = 0;             // LiDAR frames within range

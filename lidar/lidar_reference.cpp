@@ -12,6 +12,25 @@ SE3 ToSE3(const Eigen::Isometry3d& T) { return SE3(Mat3(T.linear()), Vec3(T.tran
 
 }  // namespace
 
+ScanRegistrationParams EgoRegistration() {
+  ScanRegistrationParams p;
+  p.metric = RegistrationMetric::kPointToPlane;
+  p.voxel_m = 0.3;
+  p.max_correspondence_m = 1.0;
+  p.max_iterations = 100;
+  p.kept_pair_fraction = 0.7;
+  return p;
+}
+
+ScanRegistrationParams ObjectRegistration() {
+  ScanRegistrationParams p;
+  p.metric = RegistrationMetric::kGeneralized;
+  p.voxel_m = 0.0;
+  p.max_correspondence_m = 0.4;
+  p.max_iterations = 30;
+  return p;
+}
+
 void LidarReferenceParams::validate() const {
   clusters.validate();
   ego.validate();
@@ -57,6 +76,7 @@ void LidarReferenceBuilder::add(const std::vector<Eigen::Vector3f>& points_camer
   if (frame == 0) {
     reference_.T_world_camera.push_back(SE3::Identity());
     reference_.ego_rms_m.push_back(0.0);
+    reference_.ego_step_disagreement_m.push_back(0.0);
   } else {
     // Start from the previous step (constant velocity): stop-and-go traffic changes speed slowly.
     Eigen::Isometry3d guess = Eigen::Isometry3d::Identity();
@@ -73,6 +93,10 @@ void LidarReferenceBuilder::add(const std::vector<Eigen::Vector3f>& points_camer
     T_prev_curr = r.T_target_source;
     reference_.T_world_camera.push_back(reference_.T_world_camera.back() * ToSE3(T_prev_curr));
     reference_.ego_rms_m.push_back(r.rms_m);
+    // The same pair the other way round, from the same prior guess: how far the two disagree is the
+    // reference's own step noise, the floor under any frame-to-frame comparison with it.
+    const Registration back = RegisterPoints(previous_static_, static_points, guess.inverse(), params_.ego);
+    reference_.ego_step_disagreement_m.push_back((T_prev_curr * back.T_target_source).translation().norm());
   }
   const SE3 T_world_curr = reference_.T_world_camera.back();
   const Eigen::Isometry3d T_curr_prev = T_prev_curr.inverse();

@@ -22,7 +22,7 @@ Registration RegisterPointsWithPcl(const std::vector<Eigen::Vector3f>& source, c
 
 // What the module exports (pcl_module.cpp). Raise kVersion when a signature or a parameter struct changes.
 struct PclFunctions {
-  static constexpr int kVersion = 1;
+  static constexpr int kVersion = 2;
   ModuleTableHeader header;
   decltype(&SegmentLidarObjectsWithPcl) segment = nullptr;
   decltype(&RegisterPointsWithPcl) register_points = nullptr;

@@ -9,11 +9,21 @@
 
 namespace dslam {
 
+enum class RegistrationMetric {
+  kPointToPlane,  // each source point to the plane of its nearest target point's neighbours
+  kGeneralized,   // generalized ICP (plane to plane)
+  kPointToPoint,
+};
+
 struct ScanRegistrationParams {
-  double voxel_m = 0.15;                // both sets thinned to one point per voxel first (0: not thinned)
-  double max_correspondence_m = 1.0;    // pairs farther apart are not matched
+  RegistrationMetric metric = RegistrationMetric::kPointToPlane;
+  double voxel_m = 0.15;              // both sets thinned to one point per voxel first (0: not thinned)
+  double max_correspondence_m = 1.0;  // pairs farther apart are not matched
   int max_iterations = 40;
-  bool generalized = true;              // generalized ICP (plane-to-plane); false: point-to-point ICP
+  int normal_neighbours = 10;         // point to plane: each point's plane fitted to this many nearest points
+  // Each iteration keeps this fraction of the matched pairs, the closest (trimmed ICP): points that moved
+  // or have no counterpart in the other set then do not pull the motion. 1: every pair.
+  double kept_pair_fraction = 1.0;
   void validate() const;
 };
 

@@ -67,14 +67,22 @@ TEST(RealTraffic, MasksFromTheLidarGiveEachVehicleASpeedAndKeepTheCameraCloserTo
   all_static["camera"]["rte_pct"] = all_static_report.rte_pct;
   all_static["moving_rows"] = static_cast<int>(static_run.speeds.size());
 
-  // The camera: moving vehicles no longer drag it as far (end point 18.3 -> 15.8 % of the LiDAR's path when
-  // written; the reference itself is uncertain by several per cent here, see docs/results.md).
+  // The reference itself: the car stands from frame 60 on (the images of frames 60 to 77 differ by pixel
+  // noise only), and the LiDAR path must stand too (1 cm when written; a registration that kept its
+  // constant-velocity guess crept 18 cm); its own step noise, each scan pair registered both ways, is a
+  // few per cent of the path (5.75 % when written).
+  ASSERT_EQ(reference.T_world_camera.size(), 78u);
+  EXPECT_LT((reference.T_world_camera[77].translation() - reference.T_world_camera[60].translation()).norm(), 0.05);
+  EXPECT_LT(masked["reference_noise"]["summed_pct_of_path"].get<double>(), 8.0);
+
+  // The camera: moving vehicles no longer drag it as far (end point 5.7 -> 3.1 % of the LiDAR's path when
+  // written; frame to frame 11.7 -> 11.0 %, of which the reference's own noise is about half).
   EXPECT_LT(masked["camera"]["end_error_pct"].get<double>(), all_static["camera"]["end_error_pct"].get<double>());
-  EXPECT_LT(masked["camera"]["end_error_pct"].get<double>(), 17.0);
+  EXPECT_LT(masked["camera"]["end_error_pct"].get<double>(), 4.5);
   EXPECT_LT(masked["camera"]["rte_pct"].get<double>(), all_static["camera"]["rte_pct"].get<double>());
 
   // Vehicles the LiDAR tracks for 10+ frames within 25 m: most get a speed in >= 80 % of their frames
-  // (8 of 11 when written), and the median speed differences of those are within 0.6 m/s (0.15 to 0.50).
+  // (8 of 11 when written), and the median speed differences of those are within 0.6 m/s (0.04 to 0.43).
   const auto& vehicles = masked["vehicles"];
   ASSERT_GE(vehicles.size(), 8u);
   int covered = 0;
@@ -86,8 +94,9 @@ TEST(RealTraffic, MasksFromTheLidarGiveEachVehicleASpeedAndKeepTheCameraCloserTo
   EXPECT_GE(covered, static_cast<int>(vehicles.size()) * 2 / 3);
   EXPECT_EQ(all_static["moving_rows"].get<int>(), 0) << "without masks no object is estimated";
   EXPECT_GT(masked["moving_rows"].get<int>(), 20);
-  // Rows reported moving on standing clusters or on no cluster at all: a few of the ~120 (3 and 6 when written).
-  EXPECT_LE(masked["moving_rows_on_standing_cluster"].get<int>(), 6);
+  // Rows reported moving on standing clusters or on no cluster at all: a few of the ~120 (10 and 6 when
+  // written; 5 of the 10 on two vehicles whose LiDAR speeds are near the 0.5 m/s line, medians 0.38 and 0.56).
+  EXPECT_LE(masked["moving_rows_on_standing_cluster"].get<int>(), 14);
   EXPECT_LE(masked["moving_rows_without_cluster"].get<int>(), 10);
 
   // Every estimated row says where its object is; a few frames are drawn for the report.
