@@ -23,7 +23,7 @@ void WriteFrameOverlays(const ImageDataset& dataset, const RunConfig& config,
                         const std::string& dir) {
   for (int k : frames) {
     ImageFrame frame = dataset.read(k);
-    ApplyMaskSource(config.masks, dataset.camera(), frame);
+    ApplyMaskSource(MaskSourceOf(config), dataset.camera(), frame);
     std::vector<ObjectMotionEstimate> here;
     for (const ObjectMotionEstimate& m : motions)
       if (m.frame == k) here.push_back(m);

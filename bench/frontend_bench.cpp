@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
   std::vector<dslam::ImageFrame> images;
   for (int k = 0; k < frames; ++k) {
     images.push_back(data.read(k));
-    dslam::ApplyMaskSource(config.masks, data.camera(), images.back());  // e.g. masks from the LiDAR, untimed
+    dslam::ApplyMaskSource(dslam::MaskSourceOf(config), data.camera(), images.back());  // e.g. masks from the LiDAR, untimed
   }
   {  // DIS fields stand in for a dataset's precomputed flow
     auto dis = cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_FAST);

@@ -62,7 +62,7 @@ int main(int argc, char** argv) {
       dslam::ImageFrame frame = data.read(k);
       const cv::Mat exact = ObjectsWithin(frame.instance_ids, frame.depth_m, 25.0);
       const auto t0 = std::chrono::steady_clock::now();
-      dslam::ApplyMaskSource(config.masks, data.camera(), frame);
+      dslam::ApplyMaskSource(dslam::MaskSourceOf(config), data.camera(), frame);
       ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       score.add(exact, frame.instance_ids, min_area);
     }

@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
         dslam::ImageFrame frame = data.read(k);
         const double read = MsSince(t0);
         const auto t1 = Clock::now();
-        if (masks_from_lidar) dslam::ApplyMaskSource(config.masks, data.camera(), frame);
+        if (masks_from_lidar) dslam::ApplyMaskSource(dslam::MaskSourceOf(config), data.camera(), frame);
         const double masks = MsSince(t1);
         read_ms.push_back(read);
         mask_ms.push_back(masks);

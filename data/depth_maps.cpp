@@ -149,25 +149,44 @@ cv::Mat DepthFromLidar(const std::vector<Eigen::Vector4f>& points_lidar, const E
   return depth;
 }
 
-cv::Mat FillSparseDepth(const cv::Mat& depth_m, int radius_px) {
+cv::Mat FillSparseDepth(const cv::Mat& depth_m, int radius_px, const cv::Mat& labels, double max_background_spread) {
   if (depth_m.type() != CV_32FC1) throw std::invalid_argument("depth must be CV_32FC1 to fill");
   if (radius_px < 0) throw std::invalid_argument("fill radius must be >= 0");
+  if (!(max_background_spread >= 0.0)) throw std::invalid_argument("background depth spread must be >= 0");
+  const bool by_label = !labels.empty() && max_background_spread > 0.0;
+  if (by_label && (labels.size() != depth_m.size() || (labels.type() != CV_16UC1 && labels.type() != CV_32SC1)))
+    throw std::invalid_argument("labels to fill depth by must be CV_16UC1 or CV_32SC1 of the depth's size");
   // Erosion (minimum) over valid depths only: "none" becomes a huge finite sentinel first (OpenCV's
   // erosion pads the border with the type's maximum, which must not pass for a depth either). One buffer,
   // filled and read back in single passes: comparison masks and copies cost more than the erosion itself.
   constexpr float kNone = 1e30f;
-  cv::Mat nearest(depth_m.size(), CV_32F);
+  const cv::Mat window = cv::getStructuringElement(cv::MORPH_RECT, {2 * radius_px + 1, 2 * radius_px + 1});
+  cv::Mat nearest(depth_m.size(), CV_32F), farthest;
   for (int v = 0; v < depth_m.rows; ++v) {
     const float* in = depth_m.ptr<float>(v);
     float* s = nearest.ptr<float>(v);
     for (int u = 0; u < depth_m.cols; ++u) s[u] = in[u] > 0.0f ? in[u] : kNone;
   }
-  cv::erode(nearest, nearest, cv::getStructuringElement(cv::MORPH_RECT, {2 * radius_px + 1, 2 * radius_px + 1}));
+  if (by_label) {
+    // Dilation (maximum) over valid depths: "none" is 0, and the border pads with 0 too.
+    cv::max(depth_m, 0.0f, farthest);
+    cv::patchNaNs(farthest, 0.0);
+    cv::dilate(farthest, farthest, window, {-1, -1}, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  }
+  cv::erode(nearest, nearest, window);
+  const float agree = static_cast<float>(1.0 + max_background_spread);
   for (int v = 0; v < depth_m.rows; ++v) {
     const float* in = depth_m.ptr<float>(v);
     float* out = nearest.ptr<float>(v);
     for (int u = 0; u < depth_m.cols; ++u)
       if (!(in[u] <= 0.0f) || !(out[u] < kNone / 2)) out[u] = in[u];
+    if (!by_label) continue;
+    const float* far = farthest.ptr<float>(v);
+    for (int u = 0; u < depth_m.cols; ++u) {
+      if (!(in[u] <= 0.0f) || !(far[u] > out[u] * agree)) continue;  // its own return, or a window that agrees
+      const bool background = labels.type() == CV_16UC1 ? labels.ptr<uint16_t>(v)[u] == 0 : labels.ptr<int>(v)[u] <= 0;
+      if (background) out[u] = 0.0f;
+    }
   }
   return nearest;
 }

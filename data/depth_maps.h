@@ -43,6 +43,12 @@ cv::Mat DepthFromLidar(const std::vector<Eigen::Vector4f>& points_lidar, const E
 
 // Fills pixels without depth from the nearest valid depth within `radius_px` (box neighbourhood, the
 // smallest depth wins so that foreground edges are not blurred into the background). For sparse LiDAR depth.
-cv::Mat FillSparseDepth(const cv::Mat& depth_m, int radius_px);
+// With instance labels (CV_16UC1 or CV_32SC1, same size) and a spread above 0, a background pixel (label
+// <= 0) is filled only where the depths in its neighbourhood agree: the farthest within (1 + spread) times
+// the nearest. Across a depth edge the nearest depth belongs to what stands in front, and a static point
+// given it sits too near the camera (which then seems to move less than it does). Object pixels are filled
+// as without labels: the object is what stands in front.
+cv::Mat FillSparseDepth(const cv::Mat& depth_m, int radius_px, const cv::Mat& labels = cv::Mat(),
+                        double max_background_spread = 0.0);
 
 }  // namespace dslam

@@ -174,6 +174,8 @@ const Schema& GetSchema() {
          {[](const YAML::Node& n, RunConfig& c) { c.masks.source = ParseMaskSource(n.as<std::string>()); },
           [](YAML::Emitter& e, const RunConfig& c) { e << ToString(c.masks.source); }}},
         {"lidar_from_depth", Field<bool>([](RunConfig& c) -> bool& { return c.masks.lidar_from_depth; })},
+        {"lidar_depth_background_spread",
+         Field<double>([](RunConfig& c) -> double& { return c.masks.lidar_depth_background_spread; })},
         {"lidar_max_range_m", Field<double>([](RunConfig& c) -> double& { return c.masks.lidar.segmentation.max_range_m; })},
         {"lidar_ground_distance_m",
          Field<double>([](RunConfig& c) -> double& { return c.masks.lidar.segmentation.ground_distance_m; })},

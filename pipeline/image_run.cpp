@@ -130,7 +130,7 @@ class FrontendRecorder {
 class FrameReader {
  public:
   FrameReader(const ImageDataset& dataset, const RunConfig& config, FrontendRecorder* recorder, bool ping_pong = false)
-      : dataset_(dataset), masks_(config.masks), ping_pong_(ping_pong) {
+      : dataset_(dataset), masks_(MaskSourceOf(config)), ping_pong_(ping_pong) {
     if (ping_pong_ && dataset.size() < 2)
       throw std::invalid_argument("replaying " + dataset.name() + " forwards and backwards needs 2 frames or more");
     if (!ping_pong_ && config.masks.source != MaskSourceKind::kDataset && dataset.groundTruth() && dataset.hasMasks()) {

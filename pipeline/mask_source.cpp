@@ -1,10 +1,20 @@
 #include "pipeline/mask_source.h"
 
 #include <stdexcept>
+#include <vector>
 
+#include "data/depth_maps.h"
 #include "lidar/depth_scan.h"
 
 namespace dslam {
+
+void MaskSourceParams::validate() const {
+  lidar.validate();
+  if (!(lidar_depth_background_spread >= 0.0 && lidar_depth_background_spread <= 10.0))
+    throw std::invalid_argument("masks.lidar_depth_background_spread must be in 0..10");
+  if (depth_fill_radius_px < 0 || depth_fill_radius_px > 50)
+    throw std::invalid_argument("the LiDAR depth fill radius must be in 0..50 px");
+}
 
 MaskSourceKind ParseMaskSource(const std::string& name) {
   if (name == "dataset") return MaskSourceKind::kDataset;
@@ -16,7 +26,8 @@ std::string ToString(MaskSourceKind kind) { return kind == MaskSourceKind::kData
 
 void ApplyMaskSource(const MaskSourceParams& params, const PinholeCamera& camera, ImageFrame& frame) {
   if (params.source == MaskSourceKind::kDataset) return;
-  if (frame.lidar_points_camera.empty() && params.lidar_from_depth && !frame.depth_m.empty()) {
+  const bool scan_recorded = !frame.lidar_points_camera.empty();
+  if (!scan_recorded && params.lidar_from_depth && !frame.depth_m.empty()) {
     frame.lidar_points_camera = ScanFromDepth(frame.depth_m, camera);
     frame.lidar_origin_camera = Eigen::Vector3f::Zero();
     frame.lidar_up_camera = Eigen::Vector3f(0.0f, -1.0f, 0.0f);
@@ -27,6 +38,16 @@ void ApplyMaskSource(const MaskSourceParams& params, const PinholeCamera& camera
                              "velodyne_points/ folder, a LiDAR topic, or masks.lidar_from_depth)");
   frame.instance_ids = LidarInstanceMask(frame.lidar_points_camera, frame.lidar_origin_camera, frame.lidar_up_camera, camera,
                                          params.lidar).ids;
+  if (scan_recorded && params.lidar_depth_background_spread > 0.0) {
+    // The scan is in this camera's frame already: its projection is K [I | 0].
+    std::vector<Eigen::Vector4f> points;
+    points.reserve(frame.lidar_points_camera.size());
+    for (const Eigen::Vector3f& p : frame.lidar_points_camera) points.emplace_back(p.x(), p.y(), p.z(), 0.0f);
+    Eigen::Matrix<double, 3, 4> K0 = Eigen::Matrix<double, 3, 4>::Zero();
+    K0(0, 0) = camera.fx, K0(0, 2) = camera.cx, K0(1, 1) = camera.fy, K0(1, 2) = camera.cy, K0(2, 2) = 1.0;
+    frame.depth_m = FillSparseDepth(DepthFromLidar(points, K0, camera.width, camera.height), params.depth_fill_radius_px,
+                                    frame.instance_ids, params.lidar_depth_background_spread);
+  }
 }
 
 }  // namespace dslam

@@ -29,4 +29,11 @@ struct RunConfig {
   }
 };
 
+// The mask source's settings with what it takes from the dataset's (the LiDAR depth's fill radius).
+inline MaskSourceParams MaskSourceOf(const RunConfig& config) {
+  MaskSourceParams masks = config.masks;
+  masks.depth_fill_radius_px = config.dataset.lidar_fill_radius_px;
+  return masks;
+}
+
 }  // namespace dslam

@@ -82,7 +82,7 @@ class Vehicle {
   Vehicle(DdsSession& session, const std::string& name, const ServeOptions& options, const RunConfig& config)
       : name_(name),
         options_(options),
-        masks_(config.masks),
+        masks_(MaskSourceOf(config)),
         assembler_(options.assembler),
         inbox_(kInboxSamplesPerFrame * static_cast<size_t>(options.assembler.max_pending)),
         dir_lock_(ResultDir(options, name)),

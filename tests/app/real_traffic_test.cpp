@@ -75,10 +75,11 @@ TEST(RealTraffic, MasksFromTheLidarGiveEachVehicleASpeedAndKeepTheCameraCloserTo
   EXPECT_LT((reference.T_world_camera[77].translation() - reference.T_world_camera[60].translation()).norm(), 0.05);
   EXPECT_LT(masked["reference_noise"]["summed_pct_of_path"].get<double>(), 8.0);
 
-  // The camera: moving vehicles no longer drag it as far (end point 5.7 -> 3.1 % of the LiDAR's path when
-  // written; frame to frame 11.7 -> 11.0 %, of which the reference's own noise is about half).
+  // The camera: moving vehicles no longer drag it, and no background point takes a vehicle's depth (end point
+  // 5.7 -> 1.9 % of the LiDAR's path when written, 3.1 % with the depth as read; frame to frame 11.7 -> 10.3 %,
+  // of which the reference's own noise is about half).
   EXPECT_LT(masked["camera"]["end_error_pct"].get<double>(), all_static["camera"]["end_error_pct"].get<double>());
-  EXPECT_LT(masked["camera"]["end_error_pct"].get<double>(), 4.5);
+  EXPECT_LT(masked["camera"]["end_error_pct"].get<double>(), 2.5);
   EXPECT_LT(masked["camera"]["rte_pct"].get<double>(), all_static["camera"]["rte_pct"].get<double>());
 
   // Vehicles the LiDAR tracks for 10+ frames within 25 m: most get a speed in >= 80 % of their frames

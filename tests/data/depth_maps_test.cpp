@@ -179,5 +179,50 @@ TEST(DepthMaps, FillingSparseDepthTakesTheNearestValidDepthInTheBox) {
   }
 }
 
+// With labels: object pixels as without them; a background pixel only where its box's depths agree within
+// the spread, pixel by pixel.
+TEST(DepthMaps, ABackgroundPixelIsFilledOnlyWhereTheDepthsAroundItAgree) {
+  cv::RNG rng(11);
+  cv::Mat z(60, 90, CV_32F, cv::Scalar(0));
+  for (int i = 0; i < 400; ++i) {
+    const int u = rng.uniform(0, z.cols);
+    // A near object on the left third (5-5.4 m) in front of a far wall (20-21 m).
+    z.at<float>(rng.uniform(0, z.rows), u) = u < 30 ? rng.uniform(5.0f, 5.4f) : rng.uniform(20.0f, 21.0f);
+  }
+  cv::Mat labels(z.size(), CV_32S, cv::Scalar(0));
+  labels.colRange(0, 30).setTo(4);
+  const int radius = 3;
+  const double spread = 0.1;
+  const cv::Mat plain = FillSparseDepth(z, radius);
+  cv::Mat labels16;
+  labels.convertTo(labels16, CV_16U);
+  for (const cv::Mat& l : {labels, labels16}) {
+    const cv::Mat filled = FillSparseDepth(z, radius, l, spread);
+    int cleared = 0;
+    for (int v = 0; v < z.rows; ++v)
+      for (int u = 0; u < z.cols; ++u) {
+        float lo = 0.0f, hi = 0.0f;
+        for (int y = std::max(0, v - radius); y <= std::min(z.rows - 1, v + radius); ++y)
+          for (int x = std::max(0, u - radius); x <= std::min(z.cols - 1, u + radius); ++x) {
+            const float d = z.at<float>(y, x);
+            if (d > 0.0f) lo = lo == 0.0f ? d : std::min(lo, d), hi = std::max(hi, d);
+          }
+        const bool own = z.at<float>(v, u) > 0.0f, object = u < 30;
+        if (own || object || !(hi > lo * (1.0 + spread))) {
+          ASSERT_EQ(filled.at<float>(v, u), plain.at<float>(v, u)) << "pixel " << u << "," << v;
+        } else {
+          ASSERT_EQ(filled.at<float>(v, u), 0.0f) << "pixel " << u << "," << v << ": the box spans " << lo << "-" << hi;
+          ++cleared;
+        }
+      }
+    EXPECT_GT(cleared, 20) << "background pixels by the object's edge";
+  }
+  EXPECT_THROW(FillSparseDepth(z, radius, labels, -0.1), std::invalid_argument);
+  EXPECT_THROW(FillSparseDepth(z, radius, cv::Mat(z.size(), CV_8U, cv::Scalar(0)), 0.1), std::invalid_argument);
+  EXPECT_THROW(FillSparseDepth(z, radius, cv::Mat(10, 10, CV_32S, cv::Scalar(0)), 0.1), std::invalid_argument);
+  // No spread: the labels change nothing.
+  EXPECT_EQ(cv::countNonZero(FillSparseDepth(z, radius, labels, 0.0) != plain), 0);
+}
+
 }  // namespace
 }  // namespace dslam

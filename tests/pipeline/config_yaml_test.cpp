@@ -112,6 +112,10 @@ TEST(ConfigYaml, MaskSourceAndLidarKeysRoundTripAndAreChecked) {
   EXPECT_THROW(ParseRunConfig("masks: {source: network}\n"), std::invalid_argument);
   EXPECT_THROW(ParseRunConfig("masks: {lidar_cluster_tolerance_m: -1}\n"), std::invalid_argument);
   EXPECT_THROW(ParseRunConfig("masks: {lidar_grow_px: 500}\n"), std::invalid_argument);
+  EXPECT_THROW(ParseRunConfig("masks: {lidar_depth_background_spread: -0.1}\n"), std::invalid_argument);
+  EXPECT_EQ(ParseRunConfig("masks: {lidar_depth_background_spread: 0.25}\n").masks.lidar_depth_background_spread, 0.25);
+  // The mask source remakes LiDAR depth with the dataset's fill radius.
+  EXPECT_EQ(MaskSourceOf(ParseRunConfig("dataset: {lidar_fill_radius_px: 5}\n")).depth_fill_radius_px, 5);
   // The shipped configuration for KITTI with a Velodyne and no masks uses it.
   const RunConfig traffic = LoadRunConfig(std::string(DSLAM_SOURCE_DIR) + "/config/kitti_raw_traffic.yaml");
   EXPECT_EQ(traffic.masks.source, MaskSourceKind::kLidarClusters);

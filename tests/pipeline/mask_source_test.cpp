@@ -4,6 +4,9 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "data/depth_maps.h"
+#include "lidar/depth_scan.h"
+
 namespace dslam {
 namespace {
 
@@ -40,6 +43,45 @@ TEST(MaskSource, LidarClustersFromASampledScanMaskTheCarAndNothingElse) {
   const cv::Rect box = cv::boundingRect(car);
   EXPECT_NEAR(box.x + box.width / 2.0, camera.cx, 6.0);
   EXPECT_NEAR(box.width, 1.8 * camera.fx / 10.0, 12.0);
+}
+
+TEST(MaskSource, MasksFromARecordedScanRemakeTheDepthSoThatNoBackgroundPixelTakesTheCarsDepth) {
+  const PinholeCamera camera;
+  const ImageFrame exact = RoadWithACar(camera);
+  ImageFrame frame = exact;
+  frame.lidar_points_camera = ScanFromDepth(exact.depth_m, camera);  // a recorded scan: the depth is remade
+  frame.depth_m = FillSparseDepth(DepthFromLidar([&] {
+    std::vector<Eigen::Vector4f> p;
+    for (const Eigen::Vector3f& x : frame.lidar_points_camera) p.emplace_back(x.x(), x.y(), x.z(), 0.0f);
+    return p;
+  }(), (Eigen::Matrix<double, 3, 4>() << camera.fx, 0, camera.cx, 0, 0, camera.fy, camera.cy, 0, 0, 0, 1, 0).finished(),
+                                                 camera.width, camera.height),
+                                  6);  // as a dataset fills it: the nearest depth in the box
+  MaskSourceParams params;
+  params.source = MaskSourceKind::kLidarClusters;
+  params.depth_fill_radius_px = 6;
+  ImageFrame as_read = frame;
+  params.lidar_depth_background_spread = 0.0;
+  ApplyMaskSource(params, camera, as_read);
+  EXPECT_EQ(cv::countNonZero(as_read.depth_m != frame.depth_m), 0) << "spread 0 leaves the depth as read";
+  params.lidar_depth_background_spread = 0.1;
+  ApplyMaskSource(params, camera, frame);
+  // Background pixels given the car's depth (10 m) where the road behind it is farther than 11 m: the
+  // box's depth bleeding onto the road beside and above it. The plain fill has some; the remade depth none.
+  auto bled = [&](const ImageFrame& f) {
+    int n = 0;
+    for (int v = 0; v < camera.height; ++v)
+      for (int u = 0; u < camera.width; ++u) {
+        const float d = f.depth_m.at<float>(v, u), truth = exact.depth_m.at<float>(v, u);
+        n += f.instance_ids.at<int>(v, u) == 0 && std::abs(d - 10.0f) < 0.01f && truth > 11.0f;
+      }
+    return n;
+  };
+  EXPECT_GT(bled(as_read), 100);
+  EXPECT_EQ(bled(frame), 0);
+  // The car keeps its depth.
+  const cv::Mat car = frame.instance_ids > 0;
+  EXPECT_GT(cv::countNonZero(car & (frame.depth_m > 9.5f) & (frame.depth_m < 10.5f)), 0.8 * cv::countNonZero(car & (exact.depth_m > 0.0f)));
 }
 
 TEST(MaskSource, TheDatasetsMasksStayAndAFrameWithoutAScanIsAClearError) {
