@@ -117,7 +117,9 @@ int RunLidarCheckCommand(const LidarCheckCommandOptions& options, std::ostream& 
       if (!s.estimated) continue;
       rows.push_back({s.frame, s.object_id, s.is_dynamic, s.est_mps, s.centroid_camera});
     }
-    const LidarCheckReport report = CompareWithLidar(reference, run.camera_est, rows, LidarCheckParams{});
+    LidarCheckParams check;
+    check.image_width = dataset.camera().width, check.image_height = dataset.camera().height;
+    const LidarCheckReport report = CompareWithLidar(reference, run.camera_est, rows, check);
     nlohmann::json j = ToJson(report);
     j["dataset"] = options.dataset_dir;
     j["run"] = options.run_dir;

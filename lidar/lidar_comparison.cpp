@@ -91,6 +91,8 @@ LidarCheckReport CompareWithLidar(const LidarReference& reference, const std::ve
     std::vector<double> lidar_speeds, differences;
     for (const LidarTrackSample* s : samples) {
       if (s->centroid_camera.norm() > params.vehicle_max_distance_m || !s->has_speed) continue;
+      if (s->box.area() <= 0 || s->box.area() < params.vehicle_min_box_fraction * params.image_width * params.image_height)
+        continue;
       ++v.frames;
       lidar_speeds.push_back(s->speed_mps);
       const auto it = row_at.find({s->frame, id});

@@ -25,6 +25,11 @@ struct LidarCheckParams {
   double vehicle_min_extent_m = 1.5;     // a cluster this wide or long (median over its track) is a vehicle
   double match_gate_m = 2.5;             // a run object is the LiDAR cluster whose centroid is this near
   double standing_speed_mps = 0.5;       // a LiDAR cluster slower than this (windowed) is standing
+  // A vehicle's frame is scored only where the camera sees it: its mask's box covers at least this fraction
+  // of the image (0.05 %: 15 x 15 pixels of a KITTI frame), as the mask scores count objects. Out of view,
+  // hidden behind nearer objects, or a sliver at the image's edge, it cannot be estimated from the images.
+  double vehicle_min_box_fraction = 0.0005;
+  int image_width = 0, image_height = 0;  // the camera's image (0: any box with pixels counts)
 };
 
 // The reference's own frame-to-frame noise, from each scan pair registered both ways: the median

@@ -103,10 +103,26 @@ void LidarReferenceBuilder::add(const std::vector<Eigen::Vector3f>& points_camer
 
   // Clusters: each current cluster takes the nearest previous one (moved into this frame by the
   // ego-motion) within the gate, each previous cluster at most once, nearest pairs first.
+  std::vector<int> whole_cluster_of(points_camera.size(), -1);
+  for (size_t w = 0; w < whole.objects.size(); ++w)
+    for (int i : whole.objects[w].point_indices) whole_cluster_of[i] = static_cast<int>(w);
   std::vector<Cluster> clusters(seg.objects.size());
   for (size_t c = 0; c < seg.objects.size(); ++c) {
-    for (int i : seg.objects[c].point_indices) clusters[c].points.push_back(points_camera[i]);
+    std::map<int, int> shared;  // whole-scan cluster -> points it shares with this one
+    for (int i : seg.objects[c].point_indices) {
+      clusters[c].points.push_back(points_camera[i]);
+      if (whole_cluster_of[i] >= 0) ++shared[whole_cluster_of[i]];
+    }
     clusters[c].centroid = seg.objects[c].centroid_camera;
+    const auto most = std::max_element(shared.begin(), shared.end(),
+                                       [](const auto& a, const auto& b) { return a.second < b.second; });
+    if (most == shared.end()) {
+      clusters[c].motion_points = clusters[c].points;
+      clusters[c].motion_centroid = clusters[c].centroid;
+    } else {
+      for (int i : whole.objects[most->first].point_indices) clusters[c].motion_points.push_back(points_camera[i]);
+      clusters[c].motion_centroid = whole.objects[most->first].centroid_camera;
+    }
   }
   std::vector<std::tuple<float, size_t, size_t>> pairs;  // distance, current, previous
   for (size_t c = 0; c < clusters.size(); ++c)
@@ -132,7 +148,7 @@ void LidarReferenceBuilder::add(const std::vector<Eigen::Vector3f>& points_camer
     if (match[c] >= 0) {
       const Cluster& prev = previous_clusters_[static_cast<size_t>(match[c])];
       cluster.track_id = prev.track_id;
-      const Vec3 moved = ObjectDisplacement(prev, cluster.points, cluster.centroid, T_curr_prev);
+      const Vec3 moved = ObjectDisplacement(prev, cluster.motion_points, cluster.motion_centroid, T_curr_prev);
       s.velocity_world_mps = T_world_curr.rotationMatrix() * moved / params_.frame_interval_s;
       s.has_speed = true;
     } else {
@@ -151,8 +167,8 @@ Vec3 LidarReferenceBuilder::ObjectDisplacement(const Cluster& previous, const st
   // current points, started from the centroids' offset; what it does to the point at the previous centroid.
   std::vector<Eigen::Vector3f> prev_here;
   prev_here.reserve(previous.points.size());
-  for (const Eigen::Vector3f& p : previous.points) prev_here.push_back(T_curr_prev.cast<float>() * p);
-  const Eigen::Vector3f c_prev = T_curr_prev.cast<float>() * previous.centroid;
+  for (const Eigen::Vector3f& p : previous.motion_points) prev_here.push_back(T_curr_prev.cast<float>() * p);
+  const Eigen::Vector3f c_prev = T_curr_prev.cast<float>() * previous.motion_centroid;
   Eigen::Isometry3d guess = Eigen::Isometry3d::Identity();
   guess.translation() = (centroid - c_prev).cast<double>();
   const Registration r = RegisterPoints(prev_here, points, guess, params_.object);

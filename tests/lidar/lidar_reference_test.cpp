@@ -145,6 +145,47 @@ TEST(LidarReference, EgoMotionAndEachClustersSpeedFromTheScansAlone) {
   EXPECT_EQ(parked, 1);
 }
 
+TEST(LidarReference, ACarThatTheImagesEdgeCutsAsTheEgoCarPassesItStillStands) {
+  // A parked car on the left, 7 m ahead at first: from frame 9 on the image's edge (40 degrees) cuts it.
+  // Its points in view shrink towards the edge, and their centroid moves with the edge; its speed comes
+  // from its points in the whole scan. (Its windowed speed is scored up to frame 13: later, the synthetic
+  // LiDAR's own 60 degrees cut it too.)
+  const test::SyntheticLidar lidar;
+  LidarReferenceBuilder builder(LidarReferenceParams{}, PinholeCamera{});
+  for (int k = 0; k < 20; ++k) {
+    std::vector<SceneBox> world = Street();
+    world.push_back(BoxOnGround(-3.5f, 7.0f, 1.8f, 1.5f, 4.2f));
+    builder.add(lidar.scan(Seen(world, 0.2f * k)), lidar.origin, Eigen::Vector3f(0.0f, -1.0f, 0.0f));
+  }
+  const LidarReference reference = builder.finish();
+  int scored = 0, cut = 0;
+  for (const LidarTrackSample& s : reference.samples) {
+    if (!s.has_speed || s.frame > 13 || s.centroid_camera.x() > -2.0 || s.centroid_camera.x() < -5.0 ||
+        s.centroid_camera.z() > 12.0)
+      continue;  // the parked car only
+    EXPECT_LT(s.speed_mps, 0.3) << "frame " << s.frame;
+    ++scored;
+    cut += s.box.x == 0;
+  }
+  EXPECT_GE(scored, 12);
+  EXPECT_GE(cut, 3) << "the image's edge cuts it in the later frames";
+}
+
+TEST(LidarComparison, AVehicleIsScoredOnlyInFramesWhereTheCameraSeesIt) {
+  Drive d = DriveDownTheStreet();
+  LidarCheckParams params;
+  params.image_width = 1242, params.image_height = 375;
+  const size_t before = CompareWithLidar(d.reference, d.truth, {}, params).vehicles.size();
+  // The parked car hidden (no pixels) from frame 5 on, or a sliver of 10 x 10 pixels (under 0.05 % of the
+  // image): 4 frames of it are left, under the 10 a vehicle needs.
+  for (const cv::Rect sliver : {cv::Rect(), cv::Rect(0, 100, 10, 10)}) {
+    Drive hidden = d;
+    for (LidarTrackSample& s : hidden.reference.samples)
+      if (s.frame >= 5 && s.centroid_camera.x() < -3.0) s.box = sliver;
+    EXPECT_EQ(CompareWithLidar(hidden.reference, hidden.truth, {}, params).vehicles.size(), before - 1);
+  }
+}
+
 TEST(LidarComparison, TheReferencesOwnNoiseIsWhereItsScanPairsDisagree) {
   LidarReference reference;
   for (int k = 0; k < 5; ++k) reference.T_world_camera.push_back(SE3(Mat3::Identity(), Vec3(0.0, 0.0, 0.1 * k)));
