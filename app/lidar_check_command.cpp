@@ -115,7 +115,9 @@ int RunLidarCheckCommand(const LidarCheckCommandOptions& options, std::ostream& 
     std::vector<RunObjectRow> rows;
     for (const RunResults::SpeedRow& s : run.speeds) {
       if (!s.estimated) continue;
-      rows.push_back({s.frame, s.object_id, s.is_dynamic, s.est_mps, s.centroid_camera});
+      RunObjectRow row{s.frame, s.object_id, s.is_dynamic, s.est_mps, s.centroid_camera, std::nullopt};
+      if (s.box) row.box = cv::Rect((*s.box)[0], (*s.box)[1], (*s.box)[2], (*s.box)[3]);
+      rows.push_back(row);
     }
     LidarCheckParams check;
     check.image_width = dataset.camera().width, check.image_height = dataset.camera().height;

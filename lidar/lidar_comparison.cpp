@@ -66,11 +66,20 @@ LidarCheckReport CompareWithLidar(const LidarReference& reference, const std::ve
     if (!r.centroid_camera) continue;
     if (r.moving) ++report.moving_rows;
     const LidarTrackSample* nearest = nullptr;
-    double best = params.match_gate_m;
-    for (const LidarTrackSample* s : samples_of_frame[r.frame]) {
-      const double d = (s->centroid_camera - *r.centroid_camera).norm();
-      if (d < best) best = d, nearest = s;
+    if (r.box && r.box->area() > 0) {
+      double best_iou = params.match_min_box_iou;
+      for (const LidarTrackSample* s : samples_of_frame[r.frame]) {
+        const double overlap = (s->box & *r.box).area();
+        const double iou = overlap / (s->box.area() + r.box->area() - overlap);
+        if (overlap > 0.0 && iou >= best_iou) best_iou = iou, nearest = s;
+      }
     }
+    double best = params.match_gate_m;
+    if (!nearest)
+      for (const LidarTrackSample* s : samples_of_frame[r.frame]) {
+        const double d = (s->centroid_camera - *r.centroid_camera).norm();
+        if (d < best) best = d, nearest = s;
+      }
     if (!nearest) {
       report.moving_rows_without_cluster += r.moving;
       continue;

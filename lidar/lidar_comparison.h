@@ -6,6 +6,8 @@
 #include <optional>
 #include <vector>
 
+#include <opencv2/core.hpp>
+
 #include "geometry/se3.h"
 #include "lidar/lidar_reference.h"
 
@@ -17,14 +19,22 @@ struct RunObjectRow {
   bool moving = false;  // reported moving (is_dynamic)
   double speed_mps = 0.0;
   std::optional<Vec3> centroid_camera;
+  std::optional<cv::Rect> box;  // its mask's box in the image, when the run wrote it
 };
 
 struct LidarCheckParams {
   double vehicle_max_distance_m = 25.0;  // vehicles nearer than this are scored
   int min_track_frames = 10;             // tracked by the LiDAR in at least this many frames (within range)
   double vehicle_min_extent_m = 1.5;     // a cluster this wide or long (median over its track) is a vehicle
-  double match_gate_m = 2.5;             // a run object is the LiDAR cluster whose centroid is this near
-  double standing_speed_mps = 0.5;       // a LiDAR cluster slower than this (windowed) is standing
+  // A run's row is the LiDAR cluster whose mask's box overlaps its own most, by at least this IoU (a long
+  // truck's visible part has its centroid metres from the whole cluster's); rows without a box, or without
+  // such a cluster, take the cluster whose centroid is nearest within match_gate_m.
+  double match_min_box_iou = 0.5;
+  double match_gate_m = 2.5;
+  // A LiDAR cluster slower than this (windowed) is standing: twice the speeds the reference gives standing
+  // vehicles (0.05-0.13 m/s on the real traffic frames), and well under creeping traffic, which a run
+  // reporting moving from 0.5 m/s may call either.
+  double standing_speed_mps = 0.25;
   // A vehicle's frame is scored only where the camera sees it: its mask's box covers at least this fraction
   // of the image (0.05 %: 15 x 15 pixels of a KITTI frame), as the mask scores count objects. Out of view,
   // hidden behind nearer objects, or a sliver at the image's edge, it cannot be estimated from the images.

@@ -186,6 +186,31 @@ TEST(LidarComparison, AVehicleIsScoredOnlyInFramesWhereTheCameraSeesIt) {
   }
 }
 
+TEST(LidarComparison, ARowIsTheClusterItsBoxOverlapsEvenWhereItsCentroidIsMetresAway) {
+  // A long truck: the run measured only its rear, whose centroid is 4 m from the whole cluster's.
+  LidarReference reference;
+  reference.T_world_camera = {SE3(), SE3()};
+  LidarTrackSample truck;
+  truck.frame = 1, truck.track_id = 7, truck.has_speed = true, truck.speed_mps = 0.1;
+  truck.centroid_camera = Vec3(3.0, 0.5, 12.0);
+  truck.box = cv::Rect(700, 0, 500, 375);
+  LidarTrackSample car = truck;
+  car.track_id = 8, car.centroid_camera = Vec3(-1.0, 0.5, 9.0), car.box = cv::Rect(400, 150, 120, 90);
+  reference.samples = {truck, car};
+  RunObjectRow rear{1, 3, true, 2.0, Vec3(2.8, 0.5, 8.5), cv::Rect(720, 0, 480, 375)};
+  LidarCheckReport r = CompareWithLidar(reference, reference.T_world_camera, {rear}, LidarCheckParams{});
+  EXPECT_EQ(r.moving_rows_without_cluster, 0);
+  EXPECT_EQ(r.moving_rows_on_standing, 1) << "the truck stands: a moving row there is counted";
+  // Without its box the row is 3.5 m from the truck's centroid and 3.8 m from the car's: at no cluster.
+  rear.box.reset();
+  r = CompareWithLidar(reference, reference.T_world_camera, {rear}, LidarCheckParams{});
+  EXPECT_EQ(r.moving_rows_without_cluster, 1);
+  // Creeping (0.4 m/s, under the 0.5 m/s a run may report moving from) is not standing.
+  reference.samples[0].speed_mps = 0.4;
+  rear.box = cv::Rect(720, 0, 480, 375);
+  EXPECT_EQ(CompareWithLidar(reference, reference.T_world_camera, {rear}, LidarCheckParams{}).moving_rows_on_standing, 0);
+}
+
 TEST(LidarComparison, TheReferencesOwnNoiseIsWhereItsScanPairsDisagree) {
   LidarReference reference;
   for (int k = 0; k < 5; ++k) reference.T_world_camera.push_back(SE3(Mat3::Identity(), Vec3(0.0, 0.0, 0.1 * k)));
