@@ -58,7 +58,7 @@ LidarCheckReport CompareWithLidar(const LidarReference& reference, const std::ve
   report.mean_step_rotation_error_deg = re_deg / static_cast<double>(n - 1);
   report.reference_noise = ReferenceNoise(reference);
 
-  // Each run row at the LiDAR cluster nearest to its centroid in that frame.
+  // Each run row at the LiDAR cluster its box overlaps most in that frame, else the one nearest its centroid.
   std::map<int, std::vector<const LidarTrackSample*>> samples_of_frame;
   for (const LidarTrackSample& s : reference.samples) samples_of_frame[s.frame].push_back(&s);
   std::map<std::pair<int, int>, const RunObjectRow*> row_at;  // (frame, track) -> the run's row there

@@ -166,7 +166,7 @@ Vec3 LidarReferenceBuilder::ObjectDisplacement(const Cluster& previous, const st
   // The object's own motion in this frame: its previous points, moved here by the ego-motion, onto its
   // current points, started from the centroids' offset; what it does to the point at the previous centroid.
   std::vector<Eigen::Vector3f> prev_here;
-  prev_here.reserve(previous.points.size());
+  prev_here.reserve(previous.motion_points.size());
   for (const Eigen::Vector3f& p : previous.motion_points) prev_here.push_back(T_curr_prev.cast<float>() * p);
   const Eigen::Vector3f c_prev = T_curr_prev.cast<float>() * previous.motion_centroid;
   Eigen::Isometry3d guess = Eigen::Isometry3d::Identity();
