@@ -149,6 +149,16 @@ cv::Mat DepthFromLidar(const std::vector<Eigen::Vector4f>& points_lidar, const E
   return depth;
 }
 
+cv::Mat DepthFromCameraPoints(const std::vector<Eigen::Vector3f>& points_camera, const PinholeCamera& camera,
+                              double min_depth_m) {
+  std::vector<Eigen::Vector4f> points;
+  points.reserve(points_camera.size());
+  for (const Eigen::Vector3f& p : points_camera) points.emplace_back(p.x(), p.y(), p.z(), 0.0f);
+  Eigen::Matrix<double, 3, 4> K0 = Eigen::Matrix<double, 3, 4>::Zero();
+  K0(0, 0) = camera.fx, K0(0, 2) = camera.cx, K0(1, 1) = camera.fy, K0(1, 2) = camera.cy, K0(2, 2) = 1.0;
+  return DepthFromLidar(points, K0, camera.width, camera.height, min_depth_m);
+}
+
 cv::Mat FillSparseDepth(const cv::Mat& depth_m, int radius_px, const cv::Mat& labels, double max_background_spread) {
   if (depth_m.type() != CV_32FC1) throw std::invalid_argument("depth must be CV_32FC1 to fill");
   if (radius_px < 0) throw std::invalid_argument("fill radius must be >= 0");

@@ -7,6 +7,8 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
+#include "geometry/pinhole_camera.h"
+
 namespace dslam {
 
 // 16-bit (or float) depth image divided by `units_per_metre` (1000 for millimetres); 0 stays "none".
@@ -40,6 +42,9 @@ cv::Mat DepthFromStereo(const cv::Mat& left, const cv::Mat& right, double fx, do
 // P_camera_lidar (3x4, e.g. P2 * R_rect * Tr_velo_to_cam) and written at its pixel; the nearest point wins.
 cv::Mat DepthFromLidar(const std::vector<Eigen::Vector4f>& points_lidar, const Eigen::Matrix<double, 3, 4>& P_camera_lidar,
                        int width, int height, double min_depth_m = 1.0);
+// The same for points already in the camera's frame (projection K [I | 0]).
+cv::Mat DepthFromCameraPoints(const std::vector<Eigen::Vector3f>& points_camera, const PinholeCamera& camera,
+                              double min_depth_m = 1.0);
 
 // Fills pixels without depth from the nearest valid depth within `radius_px` (box neighbourhood, the
 // smallest depth wins so that foreground edges are not blurred into the background). For sparse LiDAR depth.

@@ -109,20 +109,14 @@ void LidarReferenceBuilder::add(const std::vector<Eigen::Vector3f>& points_camer
   std::vector<Cluster> clusters(seg.objects.size());
   for (size_t c = 0; c < seg.objects.size(); ++c) {
     std::map<int, int> shared;  // whole-scan cluster -> points it shares with this one
-    for (int i : seg.objects[c].point_indices) {
-      clusters[c].points.push_back(points_camera[i]);
+    for (int i : seg.objects[c].point_indices)
       if (whole_cluster_of[i] >= 0) ++shared[whole_cluster_of[i]];
-    }
     clusters[c].centroid = seg.objects[c].centroid_camera;
     const auto most = std::max_element(shared.begin(), shared.end(),
                                        [](const auto& a, const auto& b) { return a.second < b.second; });
-    if (most == shared.end()) {
-      clusters[c].motion_points = clusters[c].points;
-      clusters[c].motion_centroid = clusters[c].centroid;
-    } else {
-      for (int i : whole.objects[most->first].point_indices) clusters[c].motion_points.push_back(points_camera[i]);
-      clusters[c].motion_centroid = whole.objects[most->first].centroid_camera;
-    }
+    const LidarObjectCluster& moving = most == shared.end() ? seg.objects[c] : whole.objects[most->first];
+    for (int i : moving.point_indices) clusters[c].motion_points.push_back(points_camera[i]);
+    clusters[c].motion_centroid = moving.centroid_camera;
   }
   std::vector<std::tuple<float, size_t, size_t>> pairs;  // distance, current, previous
   for (size_t c = 0; c < clusters.size(); ++c)
@@ -142,7 +136,7 @@ void LidarReferenceBuilder::add(const std::vector<Eigen::Vector3f>& points_camer
     LidarTrackSample s;
     s.frame = frame;
     s.centroid_camera = cluster.centroid.cast<double>();
-    s.points = static_cast<int>(cluster.points.size());
+    s.points = static_cast<int>(seg.objects[c].point_indices.size());
     s.extent_m = seg.objects[c].footprintDiagonal();
     s.box = masks.boxes[c];
     if (match[c] >= 0) {

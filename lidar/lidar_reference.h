@@ -67,8 +67,7 @@ class LidarReferenceBuilder {
 
  private:
   struct Cluster {
-    std::vector<Eigen::Vector3f> points;  // in the camera's view
-    Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+    Eigen::Vector3f centroid = Eigen::Vector3f::Zero();  // of its points in the camera's view
     // The same object in the whole scan, for its motion: cut at the image's edge, its points in view
     // would move with the edge as the car drives past, and its speed with them.
     std::vector<Eigen::Vector3f> motion_points;

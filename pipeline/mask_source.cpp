@@ -1,7 +1,6 @@
 #include "pipeline/mask_source.h"
 
 #include <stdexcept>
-#include <vector>
 
 #include "data/depth_maps.h"
 #include "lidar/depth_scan.h"
@@ -38,16 +37,9 @@ void ApplyMaskSource(const MaskSourceParams& params, const PinholeCamera& camera
                              "velodyne_points/ folder, a LiDAR topic, or masks.lidar_from_depth)");
   frame.instance_ids = LidarInstanceMask(frame.lidar_points_camera, frame.lidar_origin_camera, frame.lidar_up_camera, camera,
                                          params.lidar).ids;
-  if (scan_recorded && params.lidar_depth_background_spread > 0.0) {
-    // The scan is in this camera's frame already: its projection is K [I | 0].
-    std::vector<Eigen::Vector4f> points;
-    points.reserve(frame.lidar_points_camera.size());
-    for (const Eigen::Vector3f& p : frame.lidar_points_camera) points.emplace_back(p.x(), p.y(), p.z(), 0.0f);
-    Eigen::Matrix<double, 3, 4> K0 = Eigen::Matrix<double, 3, 4>::Zero();
-    K0(0, 0) = camera.fx, K0(0, 2) = camera.cx, K0(1, 1) = camera.fy, K0(1, 2) = camera.cy, K0(2, 2) = 1.0;
-    frame.depth_m = FillSparseDepth(DepthFromLidar(points, K0, camera.width, camera.height), params.depth_fill_radius_px,
+  if (scan_recorded && params.lidar_depth_background_spread > 0.0)
+    frame.depth_m = FillSparseDepth(DepthFromCameraPoints(frame.lidar_points_camera, camera), params.depth_fill_radius_px,
                                     frame.instance_ids, params.lidar_depth_background_spread);
-  }
 }
 
 }  // namespace dslam

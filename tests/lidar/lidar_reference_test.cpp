@@ -237,9 +237,9 @@ TEST(LidarComparison, ScoresTheCameraPathAndEachVehiclesSpeedAgainstTheReference
     const bool ahead = std::abs(s.centroid_camera.x()) < 3.0;
     const bool wrong = !ahead && s.frame == 10;
     rows.push_back({s.frame, ahead ? 1 : 2, ahead || wrong, ahead ? 4.1 : (wrong ? 1.5 : 0.0),
-                    s.centroid_camera + Vec3(0.3, 0.0, -0.5)});
+                    s.centroid_camera + Vec3(0.3, 0.0, -0.5), std::nullopt});
   }
-  rows.push_back({8, 3, true, 3.0, Vec3(0.0, -1.0, 30.0)});  // a "moving object" where there is no cluster
+  rows.push_back({8, 3, true, 3.0, Vec3(0.0, -1.0, 30.0), std::nullopt});  // a "moving object" where there is no cluster
   const LidarCheckReport r = CompareWithLidar(d.reference, run, rows, LidarCheckParams{});
   EXPECT_NEAR(r.path_length_m, 3.8, 0.15);
   EXPECT_NEAR(r.end_error_pct, 5.0, 1.5);

@@ -50,13 +50,8 @@ TEST(MaskSource, MasksFromARecordedScanRemakeTheDepthSoThatNoBackgroundPixelTake
   const ImageFrame exact = RoadWithACar(camera);
   ImageFrame frame = exact;
   frame.lidar_points_camera = ScanFromDepth(exact.depth_m, camera);  // a recorded scan: the depth is remade
-  frame.depth_m = FillSparseDepth(DepthFromLidar([&] {
-    std::vector<Eigen::Vector4f> p;
-    for (const Eigen::Vector3f& x : frame.lidar_points_camera) p.emplace_back(x.x(), x.y(), x.z(), 0.0f);
-    return p;
-  }(), (Eigen::Matrix<double, 3, 4>() << camera.fx, 0, camera.cx, 0, 0, camera.fy, camera.cy, 0, 0, 0, 1, 0).finished(),
-                                                 camera.width, camera.height),
-                                  6);  // as a dataset fills it: the nearest depth in the box
+  // As a dataset fills it: the nearest depth in the box.
+  frame.depth_m = FillSparseDepth(DepthFromCameraPoints(frame.lidar_points_camera, camera), 6);
   MaskSourceParams params;
   params.source = MaskSourceKind::kLidarClusters;
   params.depth_fill_radius_px = 6;
