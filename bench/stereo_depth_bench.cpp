@@ -1,7 +1,9 @@
 // Stereo depth on a rendered pair (render-scene --stereo) against the exact rendered depth, for each stereo
 // setting: plain SGBM, SGBM with the left-right check, and with the WLS filter too. Prints the share of pixels
 // (exact depth under 40 m) given a depth, the share of those off by more than 3 quarter pixels of disparity
-// (mismatches), the median |error| within 1 m of 5, 10, 20 and 30 m, and the median time a pair.
+// (mismatches), the same two shares in the image's left band as wide as the disparity range (where the right
+// image sees only part of the scene), the median |error| within 1 m of 5, 10, 20 and 30 m, and the median time
+// a pair.
 // Usage: bench_stereo_depth DATASET [FRAMES (default 20)]
 #include <algorithm>
 #include <chrono>
@@ -50,6 +52,8 @@ int main(int argc, char** argv) {
       std::vector<std::vector<double>> errors(ranges.size());
       std::vector<double> ms;
       long valid = 0, total = 0, mismatched = 0;
+      long band_valid = 0, band_total = 0, band_mismatched = 0;  // u < num_disparities
+      const int band_px = options.stereo.num_disparities;
       for (int k = 0; k < frames; ++k) {
         const auto start = std::chrono::steady_clock::now();
         const cv::Mat z_stereo = stereo.read(k).depth_m;
@@ -59,11 +63,12 @@ int main(int argc, char** argv) {
           for (int u = 0; u < z.cols; ++u) {
             const float zt = z.at<float>(v, u), zs = z_stereo.at<float>(v, u);
             if (!(zt > 0.0f && zt < 40.0f)) continue;
-            ++total;
+            const bool in_band = u < band_px;
+            ++total, band_total += in_band;
             if (!(zs > 0.0f)) continue;
-            ++valid;
+            ++valid, band_valid += in_band;
             // 0.75 px of disparity at the true depth, in metres
-            if (std::abs(zs - zt) > 0.75 * zt * zt / fx_baseline) ++mismatched;
+            if (std::abs(zs - zt) > 0.75 * zt * zt / fx_baseline) ++mismatched, band_mismatched += in_band;
             for (size_t r = 0; r < ranges.size(); ++r)
               if (std::abs(zt - ranges[r]) <= 1.0) errors[r].push_back(std::abs(zs - zt));
           }
@@ -71,6 +76,8 @@ int main(int argc, char** argv) {
       std::printf("%s: depth on %.1f %% of the pixels, %.2f %% of them off by > 0.75 px, %.0f ms a frame (read + match)\n",
                   setting.name, 100.0 * valid / std::max(1L, total), 100.0 * mismatched / std::max(1L, valid),
                   dslam::bench::Percentile(ms, 0.5));
+      std::printf("  left band (u < %d px): depth on %.1f %% of its pixels, %.2f %% of them off by > 0.75 px\n", band_px,
+                  100.0 * band_valid / std::max(1L, band_total), 100.0 * band_mismatched / std::max(1L, band_valid));
       for (size_t r = 0; r < ranges.size(); ++r) {
         auto& e = errors[r];
         if (e.empty()) continue;
