@@ -275,6 +275,9 @@ int RunCommandLine(int argc, char** argv) {
                         "jazzy (16; also iron, kilted, lyrical, rolling)")
       ->capture_default_str();
 
+  serve_cmd->add_option("--fleet-share", serve.fleet_share,
+                        "K/N: this is serve host K (0..N-1) of N given the same --vehicle list; it serves the "
+                        "vehicles at places K, K+N, ... of the list sorted by name, so each has one host");
   serve_cmd->add_option("--ownership-strength", serve.ownership_strength,
                         "Hot standby: this instance's ownership strength on its outputs; with a profile of EXCLUSIVE "
                         "ownership subscribers follow the live serve of highest strength (-1: the profile's)")

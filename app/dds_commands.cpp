@@ -17,6 +17,7 @@
 #include "plugin/dds_error.h"
 #include "plugin/estimate_listener.h"
 #include "plugin/estimate_stream_stats.h"
+#include "plugin/fleet_share.h"
 #include "plugin/ros_distro.h"
 #include "plugin/topics.h"
 #include "plugin/udp_buffer_check.h"
@@ -79,6 +80,13 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
     serve.domain_id = options.domain_id;
     serve.profiles_file = options.profiles_file;
     if (!options.vehicles.empty()) serve.vehicles = options.vehicles;
+    if (!options.fleet_share.empty()) {
+      if (options.vehicles.empty()) throw std::invalid_argument("--fleet-share needs the fleet's --vehicle list");
+      serve.vehicles = VehiclesOfShare(options.vehicles, ParseFleetShare(options.fleet_share));
+      if (serve.vehicles.empty())
+        throw std::invalid_argument("--fleet-share " + options.fleet_share + " leaves this host no vehicle of the " +
+                                    std::to_string(options.vehicles.size()) + " given");
+    }
     serve.assembler.expect_odometry = !options.no_odometry;
     serve.assembler.timeout_ns = static_cast<int64_t>(options.timeout_ms) * 1'000'000;
     serve.assembler.silence_timeout_ns = static_cast<int64_t>(options.silence_ms) * 1'000'000;
@@ -120,9 +128,22 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
     const auto start = std::chrono::steady_clock::now();
     auto last_status = start, last_loss_warning = start - std::chrono::hours(1);
     std::map<std::string, uint64_t> lost_reported;
+    std::map<std::string, std::string> quiet_reported;  // vehicle -> the serve it yields to ("" = publishing)
     while (!g_stop) {
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
       const auto now = std::chrono::steady_clock::now();
+      // Another serve publishing one of our vehicles: said at once, and again when it leaves.
+      for (const auto& [name, s] : node.status()) {
+        if (s.quiet_for == quiet_reported[name]) continue;
+        if (s.quiet)
+          out << "dslam serve: warning: vehicle '" << name << "' is also published by another serve (participant "
+              << s.quiet_for << ") that subscribers would take as well: this one goes quiet (it estimates and writes "
+                 "its results, publishes nothing) while that one publishes; see docs/serve.md, A fleet"
+              << std::endl;
+        else
+          out << "dslam serve: vehicle '" << name << "': the other serve is gone, this one publishes again" << std::endl;
+        quiet_reported[name] = s.quiet_for;
+      }
       // Lost input samples are a network problem the user can fix: said at once, at most every 5 s.
       if (now - last_loss_warning > std::chrono::seconds(5)) {
         for (const auto& [name, s] : node.status()) {
@@ -143,6 +164,7 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
               << " frames processed, " << s.counters.dropped_incomplete << " incomplete, "
               << s.counters.dropped_queue_full << " dropped (backlog full), "
               << s.counters.samples_lost << " lost, " << s.counters.rejected_invalid << " rejected"
+              << (s.quiet ? ", quiet (another serve publishes it)" : "")
               << (s.counters.last_rejection.empty() ? "" : " (last: ")
               << s.counters.last_rejection << (s.counters.last_rejection.empty() ? "" : ")") << std::endl;
           if (!s.latency.empty())

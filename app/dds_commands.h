@@ -16,6 +16,7 @@ struct ServeCommandOptions {
   std::optional<std::string> config_path;
   std::string calib_path;               // KITTI-format calib.txt: the camera's intrinsics (P2, else P0)
   std::vector<std::string> vehicles;    // empty: one pipeline without namespace
+  std::string fleet_share;              // "K/N": serve only this host's share of the vehicles (fleet_share.h)
   int domain_id = 0;
   std::string profiles_file = DSLAM_DEFAULT_DDS_PROFILES;
   std::string out_dir = "results/serve";

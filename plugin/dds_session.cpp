@@ -50,12 +50,14 @@ class StartupLog {
 
 }  // namespace
 
-DdsSession::DdsSession(int domain_id, const std::string& profiles_file) {
+DdsSession::DdsSession(int domain_id, const std::string& profiles_file, dds::DomainParticipantListener* listener) {
   StartupLog log;
   auto* factory = dds::DomainParticipantFactory::get_instance();
   if (factory->load_XML_profiles_file(profiles_file) != ReturnCode_t::RETCODE_OK)
     throw DdsStartError("cannot load the Fast DDS profiles " + profiles_file + log.firstError());
-  participant_ = factory->create_participant_with_profile(static_cast<dds::DomainId_t>(domain_id), "dslam_participant");
+  // Discovery callbacks only (none of the listener's data callbacks: the endpoints have their own).
+  participant_ = factory->create_participant_with_profile(static_cast<dds::DomainId_t>(domain_id), "dslam_participant",
+                                                          listener, dds::StatusMask::none());
   if (!participant_)
     throw DdsStartError("cannot create a DDS participant on domain " + std::to_string(domain_id) +
                         " (profile dslam_participant of " + profiles_file + ")" + log.firstError());

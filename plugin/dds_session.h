@@ -9,6 +9,7 @@
 #include <string>
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
@@ -23,8 +24,10 @@ namespace dslam {
 
 class DdsSession {
  public:
-  // Throws DdsStartError naming the profile file or the entity that could not be created.
-  DdsSession(int domain_id, const std::string& profiles_file);
+  // Throws DdsStartError naming the profile file or the entity that could not be created. `listener`, when
+  // given, hears the participant's discovery from the start and must outlive the session.
+  DdsSession(int domain_id, const std::string& profiles_file,
+             eprosima::fastdds::dds::DomainParticipantListener* listener = nullptr);
   ~DdsSession();
   DdsSession(const DdsSession&) = delete;
   DdsSession& operator=(const DdsSession&) = delete;

@@ -1,6 +1,7 @@
 #include "plugin/serve_node.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -19,6 +20,7 @@
 #include "output/whole_file.h"
 #include "plugin/compressed_image.h"
 #include "plugin/dds_session.h"
+#include "plugin/fleet_share.h"
 #include "plugin/image_message.h"
 #include "plugin/object_markers.h"
 #include "plugin/point_cloud_message.h"
@@ -106,6 +108,7 @@ class Vehicle {
                                     "config/dds_profiles_hot_standby.xml)");
       estimate_qos.ownership_strength().value = *options.ownership_strength;
     }
+    estimate_qos_ = estimate_qos;
     odometry_writer_ = session.writer(topics.camera_odometry, new nav_msgs::msg::OdometryPubSubType(), estimate_qos);
     objects_writer_ =
         session.writer(topics.object_motions, new dslam_msgs::msg::ObjectMotionArrayPubSubType(), estimate_qos);
@@ -202,6 +205,17 @@ class Vehicle {
   // This vehicle's ROS 2 node: its namespace, name, readers and writers.
   const RosGraphNode& graphNode() const { return graph_node_; }
 
+  // The QoS of the estimates' writers (the profile's, with --ownership-strength).
+  const dds::DataWriterQos& estimateQos() const { return estimate_qos_; }
+
+  // From Fast DDS' discovery thread (RivalWriterWatch): `other` is the participant it yields to, "" to publish.
+  void setQuiet(const std::string& other) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    status_.quiet = !other.empty();
+    status_.quiet_for = other;
+    quiet_ = status_.quiet;
+  }
+
   VehicleStatus status() const {
     std::lock_guard<std::mutex> lock(mutex_);
     VehicleStatus s = status_;
@@ -233,6 +247,7 @@ class Vehicle {
     info["dropped_queue_full"] = s.counters.dropped_queue_full;
     info["rejected_invalid"] = s.counters.rejected_invalid;
     info["samples_lost"] = s.counters.samples_lost;
+    info["frames_not_published"] = s.frames_not_published;  // estimated while another serve published them
     info["latency_ms"] = LatencyJson(s.latency);
     try {
       WriteKittiTrajectory(dir + "/camera_ours.kitti", ReadTumTrajectory(dir + "/camera_ours.tum"));
@@ -423,12 +438,15 @@ class Vehicle {
   // The back-end thread, after each frame.
   void publish(const FrameEstimate& estimate, const FrameTiming& timing_in) {
     ++frames_processed_;  // only this thread writes it until writeResults, after finish()
-    nav_msgs::msg::Odometry odometry = EncodeOdometry(estimate.T_world_camera, estimate.t_ns, "world", "camera");
-    odometry_writer_->write(&odometry);
-    dslam_msgs::msg::ObjectMotionArray objects = ToMessage(estimate, options_.frame_rate_hz);
-    objects_writer_->write(&objects);
-    visualization_msgs::msg::MarkerArray markers = ObjectMarkers(estimate, options_.frame_rate_hz);
-    markers_writer_->write(&markers);
+    const bool quiet = quiet_;
+    if (!quiet) {
+      nav_msgs::msg::Odometry odometry = EncodeOdometry(estimate.T_world_camera, estimate.t_ns, "world", "camera");
+      odometry_writer_->write(&odometry);
+      dslam_msgs::msg::ObjectMotionArray objects = ToMessage(estimate, options_.frame_rate_hz);
+      objects_writer_->write(&objects);
+      visualization_msgs::msg::MarkerArray markers = ObjectMarkers(estimate, options_.frame_rate_hz);
+      markers_writer_->write(&markers);
+    }
     FrameTiming timing = timing_in;
     timing.published_ns = SteadyClockNs();
     // Capture to estimate is known when the stamps are of this host's clock (a driver here, or one
@@ -438,6 +456,7 @@ class Vehicle {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       ++status_.frames_processed;
+      status_.frames_not_published += quiet;
       const auto it = handed_at_.find(estimate.t_ns);
       if (it != handed_at_.end()) {
         status_.last_latency_ms = std::chrono::duration<double, std::milli>(Clock::now() - it->second).count();
@@ -448,6 +467,7 @@ class Vehicle {
   }
 
   void publishStatus(int64_t t_ns) {
+    if (quiet_) return;  // the status is one of the estimates' outputs: the publishing serve's alone
     dslam_msgs::msg::Status status;
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -486,6 +506,7 @@ class Vehicle {
   std::atomic<uint64_t> samples_lost_{0};  // by Fast DDS' threads (SAMPLE_LOST of the input readers)
   DirLock dir_lock_;          // this vehicle's folder is ours alone while we run
   std::atomic<bool> abandon_{false};
+  std::atomic<bool> quiet_{false};  // estimates, results on disk, nothing published (setQuiet)
   StreamingFileSink stream_;  // the results as they become final; rewritten whole at the end
   std::unique_ptr<StagedPipeline> pipeline_;
   std::optional<MethodResult> result_;  // once stopped
@@ -499,8 +520,86 @@ class Vehicle {
   InputListener<nav_msgs::msg::Odometry> odometry_listener_;
   dds::DataWriter *odometry_writer_ = nullptr, *objects_writer_ = nullptr, *status_writer_ = nullptr,
                   *markers_writer_ = nullptr;
+  dds::DataWriterQos estimate_qos_;
   RosGraphNode graph_node_;
   std::thread intake_, feeder_;
+};
+
+// Watches the network for another serve publishing one of our vehicles' estimates where subscribers would
+// take both streams, and makes the instance whose participant GUID is the higher go quiet for that vehicle
+// (fleet_share.h, YieldsTo) until the other's writer is gone. Hot standbys (exclusive ownership, different
+// strengths) are left alone: DDS already gives subscribers one of them.
+class RivalWriterWatch : public dds::DomainParticipantListener {
+ public:
+  explicit RivalWriterWatch(const std::vector<std::string>& vehicles) {
+    for (const std::string& name : vehicles) vehicle_of_topic_[TopicsFor(name).camera_odometry] = name;
+  }
+
+  // Our estimates' ownership, known once the session has read the profiles; the vehicles exist after the
+  // participant. Each vehicle is told its state as it attaches, and on every change after.
+  void setOwnership(const dds::DataWriterQos& qos) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    exclusive_ = qos.ownership().kind == dds::EXCLUSIVE_OWNERSHIP_QOS;
+    strength_ = qos.ownership_strength().value;
+    for (const auto& [name, vehicle] : vehicles_) vehicle->setQuiet(yieldingTo(name));
+  }
+  void attach(const std::string& name, Vehicle* vehicle) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    vehicles_[name] = vehicle;
+    vehicle->setQuiet(yieldingTo(name));
+  }
+
+  void on_publisher_discovery(dds::DomainParticipant* participant,
+                              eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override {
+    const auto topic = vehicle_of_topic_.find(info.info.topicName().to_string());
+    if (topic == vehicle_of_topic_.end()) return;
+    Prefix own, other;
+    std::copy(std::begin(participant->guid().guidPrefix.value), std::end(participant->guid().guidPrefix.value), own.begin());
+    std::copy(std::begin(info.info.guid().guidPrefix.value), std::end(info.info.guid().guidPrefix.value), other.begin());
+    if (own == other) return;  // our own writer
+    std::lock_guard<std::mutex> lock(mutex_);
+    own_ = own;
+    auto& writers = remote_writers_[topic->second];
+    if (info.status == eprosima::fastrtps::rtps::WriterDiscoveryInfo::REMOVED_WRITER)
+      writers.erase(other);
+    else
+      writers[other] = {info.info.m_qos.m_ownership.kind == dds::EXCLUSIVE_OWNERSHIP_QOS,
+                        info.info.m_qos.m_ownershipStrength.value};
+    const auto v = vehicles_.find(topic->second);
+    if (v != vehicles_.end()) v->second->setQuiet(yieldingTo(topic->second));
+  }
+
+ private:
+  using Prefix = std::array<uint8_t, 12>;
+  struct Ownership {
+    bool exclusive = false;
+    uint32_t strength = 0;
+  };
+
+  // The lowest remote participant this instance yields to for the vehicle, in hex; "" when none.
+  std::string yieldingTo(const std::string& name) const {
+    const auto it = remote_writers_.find(name);
+    if (it == remote_writers_.end()) return {};
+    for (const auto& [prefix, ownership] : it->second) {  // ascending
+      const bool both_reach_subscribers = !exclusive_ || !ownership.exclusive || ownership.strength == strength_;
+      if (!both_reach_subscribers || !YieldsTo(own_, prefix)) continue;
+      std::string hex;
+      for (uint8_t byte : prefix) {
+        static const char* digits = "0123456789abcdef";
+        hex += digits[byte >> 4], hex += digits[byte & 15];
+      }
+      return hex;
+    }
+    return {};
+  }
+
+  std::map<std::string, std::string> vehicle_of_topic_;  // camera odometry topic -> vehicle
+  std::mutex mutex_;
+  bool exclusive_ = false;
+  uint32_t strength_ = 0;
+  Prefix own_{};
+  std::map<std::string, std::map<Prefix, Ownership>> remote_writers_;  // vehicle -> other serves' writers
+  std::map<std::string, Vehicle*> vehicles_;
 };
 
 struct ServeNode::Impl {
@@ -511,6 +610,7 @@ struct ServeNode::Impl {
     graph.reset();
     session.reset();
   }
+  std::unique_ptr<RivalWriterWatch> watch;  // outlives the session, whose participant calls it
   std::unique_ptr<DdsSession> session;
   std::map<std::string, std::unique_ptr<Vehicle>> vehicles;
   std::unique_ptr<RosGraphAnnouncer> graph;
@@ -531,11 +631,14 @@ ServeNode::ServeNode(const ServeOptions& options_in, const RunConfig& config) : 
     if (const std::string bad = FindInvalidVehicleName(name); !bad.empty()) throw std::invalid_argument(bad);
   if (const std::string bad = FindInvalidNodeName(options.node_name); !bad.empty()) throw std::invalid_argument(bad);
   RosGidWidth(options.ros_distro);  // throws for an unknown distribution, before DDS starts
-  impl_->session = std::make_unique<DdsSession>(options.domain_id, options.profiles_file);
+  impl_->watch = std::make_unique<RivalWriterWatch>(options.vehicles);
+  impl_->session = std::make_unique<DdsSession>(options.domain_id, options.profiles_file, impl_->watch.get());
   for (const std::string& name : options.vehicles) {
     if (impl_->vehicles.count(name)) throw std::invalid_argument("vehicle '" + name + "' given twice");
     impl_->vehicles[name] = std::make_unique<Vehicle>(*impl_->session, name, options, config);
   }
+  if (!impl_->vehicles.empty()) impl_->watch->setOwnership(impl_->vehicles.begin()->second->estimateQos());
+  for (const auto& [name, v] : impl_->vehicles) impl_->watch->attach(name, v.get());
   impl_->graph = std::make_unique<RosGraphAnnouncer>(*impl_->session, options.ros_distro);
   std::vector<RosGraphNode> nodes;
   for (const auto& [name, v] : impl_->vehicles) nodes.push_back(v->graphNode());

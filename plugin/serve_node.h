@@ -48,6 +48,12 @@ struct VehicleStatus {
   uint64_t frames_processed = 0;
   double last_latency_ms = 0.0;  // frame assembled -> its estimate published
   std::vector<StageLatencySummary> latency;  // per stage over the session (pipeline/stage_latency.h)
+  // Another serve publishes this vehicle's estimates where subscribers would take both (shared ownership,
+  // or exclusive with the same strength), and its participant's GUID is the lower: this one goes on
+  // estimating and writing its results but publishes nothing until that one leaves (plugin/fleet_share.h).
+  bool quiet = false;
+  std::string quiet_for;  // the other participant's GUID prefix, while quiet
+  uint64_t frames_not_published = 0;  // estimated while quiet
 };
 
 class ServeNode {

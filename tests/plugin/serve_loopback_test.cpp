@@ -115,6 +115,7 @@ class Listener {
 
   std::mutex mutex;
   std::map<int64_t, SE3> poses_by_stamp;
+  size_t odometry_samples = 0;  // every camera estimate received (a stamp received twice counts twice)
   std::map<int64_t, dslam_msgs::msg::ObjectMotionArray> objects_by_stamp;
   std::vector<dslam_msgs::msg::Status> statuses;
 
@@ -136,6 +137,7 @@ class Listener {
       const auto pose = DecodeOdometry(m, &error);
       std::lock_guard<std::mutex> lock(l->mutex);
       l->poses_by_stamp[StampToNs(m.header().stamp())] = pose->T_odom_camera;
+      ++l->odometry_samples;
     }
   };
   struct OnObjects {
@@ -562,19 +564,20 @@ TEST(ServeLoopback, APublisherRestartedMidSequenceIsFollowedAndTwoVehiclesStaySe
   EXPECT_TRUE(fs::exists(test::TempPath("serve_two_out") + "/b/camera_ours.tum"));
 }
 
-TEST(ServeLoopback, VehiclesServedByTwoProcessesOfOneDomainStaySeparate) {
-  // The vehicles of one network spread over participants (here processes; hosts work the same through
-  // discovery): each serve follows only its own namespace.
+TEST(ServeLoopback, AFleetSharedByTwoServesHasEachVehicleServedOnce) {
+  // A fleet spread over participants (here processes; hosts work the same through discovery): both serves
+  // are given the whole fleet, each its place among the two (--fleet-share), and each follows only its share.
   const std::string city_a = CityDataset(10, 1), city_b = CityDataset(10, 2);
   const int domain = test::DomainFor(test::DdsTestSlot::kLoopbackTwoProcesses);
   const std::string out_a = test::TempPath("serve_a_out"), out_b = test::TempPath("serve_b_out");
-  auto serve_args = [&](const std::string& out, const std::string& vehicle) {
+  auto serve_args = [&](const std::string& out, const std::string& share) {
     auto args = ServeArgs(domain, city_a, out);
-    args.push_back("--vehicle"), args.push_back(vehicle);
+    for (const char* v : {"b", "a"}) args.push_back("--vehicle"), args.push_back(v);
+    args.push_back("--fleet-share"), args.push_back(share);
     return args;
   };
-  test::Process serve_a(serve_args(out_a, "a"), test::TempPath("serve_a.log"));
-  test::Process serve_b(serve_args(out_b, "b"), test::TempPath("serve_b.log"));
+  test::Process serve_a(serve_args(out_a, "0/2"), test::TempPath("serve_a.log"));
+  test::Process serve_b(serve_args(out_b, "1/2"), test::TempPath("serve_b.log"));
   Listener a(domain, "a"), b(domain, "b");
   auto publish_args = [&](const std::string& dataset, const std::string& vehicle) {
     auto p = PublishArgs(domain, dataset, "5");
@@ -589,12 +592,14 @@ TEST(ServeLoopback, VehiclesServedByTwoProcessesOfOneDomainStaySeparate) {
   ASSERT_TRUE(a.waitForStatusAfter(10, 30s)) << a.summary();
   ASSERT_TRUE(b.waitForStatusAfter(10, 30s)) << b.summary();
   {
-    // Each process counted only its own vehicle's samples: four per frame.
+    // Each process counted only its own vehicle's samples: four per frame; each estimate came once.
     std::lock_guard<std::mutex> lock_a(a.mutex), lock_b(b.mutex);
     EXPECT_EQ(a.statuses.back().vehicle(), "a");
     EXPECT_EQ(b.statuses.back().vehicle(), "b");
     EXPECT_EQ(a.statuses.back().frames_received(), 40u);
     EXPECT_EQ(b.statuses.back().frames_received(), 40u);
+    EXPECT_EQ(a.odometry_samples, 10u);
+    EXPECT_EQ(b.odometry_samples, 10u);
   }
   serve_a.signal(SIGTERM);
   serve_b.signal(SIGTERM);
@@ -604,6 +609,65 @@ TEST(ServeLoopback, VehiclesServedByTwoProcessesOfOneDomainStaySeparate) {
   EXPECT_FALSE(fs::exists(out_a + "/b"));
   EXPECT_TRUE(fs::exists(out_b + "/b/camera_ours.tum"));
   EXPECT_FALSE(fs::exists(out_b + "/a"));
+}
+
+// Two serves given the same vehicle by mistake (shared ownership: subscribers would take both streams): the
+// one of the higher participant GUID goes quiet, so every estimate reaches the subscriber once; it keeps
+// estimating, and publishes when the other leaves.
+TEST(ServeLoopback, AVehicleGivenToTwoServesIsPublishedByOneAndTheOtherTakesOverWhenItLeaves) {
+  const std::string city = CityDataset(10, 1);
+  const int domain = test::DomainFor(test::DdsTestSlot::kLoopbackQuiet);
+  const std::string out_1 = test::TempPath("serve_quiet_1"), out_2 = test::TempPath("serve_quiet_2");
+  const std::string log_1 = test::TempPath("serve_quiet_1.log"), log_2 = test::TempPath("serve_quiet_2.log");
+  auto serve_args = [&](const std::string& out) {
+    auto args = ServeArgs(domain, city, out);
+    args.push_back("--vehicle"), args.push_back("a");
+    return args;
+  };
+  auto serve_1 = std::make_unique<test::Process>(serve_args(out_1), log_1);
+  auto serve_2 = std::make_unique<test::Process>(serve_args(out_2), log_2);
+  const std::string quiet = "this one goes quiet";
+  bool one_quiet = false;
+  for (int i = 0; i < 600 && !one_quiet; ++i) {
+    std::this_thread::sleep_for(50ms);
+    one_quiet = test::ReadFile(log_1).find(quiet) != std::string::npos ||
+                test::ReadFile(log_2).find(quiet) != std::string::npos;
+  }
+  ASSERT_TRUE(one_quiet) << test::ReadFile(log_1) << test::ReadFile(log_2);
+  const bool first_is_quiet = test::ReadFile(log_1).find(quiet) != std::string::npos;
+  EXPECT_NE(first_is_quiet, test::ReadFile(log_2).find(quiet) != std::string::npos) << "exactly one goes quiet";
+  Listener listener(domain, "a");
+  auto publish_args = PublishArgs(domain, city, "5");
+  // Stamped when sent, so that the second replay below goes on where the first ended.
+  for (const char* arg : {"--vehicle", "a", "--stamp-now"}) publish_args.push_back(arg);
+  test::Process publish(publish_args, test::TempPath("pub_quiet.log"));
+  ASSERT_EQ(publish.wait(60s), 0);
+  ASSERT_TRUE(listener.waitFor(10, 60s)) << listener.summary();
+  ASSERT_TRUE(listener.waitForStatusAfter(10, 30s)) << listener.summary();
+  {
+    std::lock_guard<std::mutex> lock(listener.mutex);
+    EXPECT_EQ(listener.odometry_samples, 10u);  // once each
+  }
+  // The publishing one leaves: the quiet one says it publishes again, and its estimates reach the subscriber.
+  std::unique_ptr<test::Process>& publishing = first_is_quiet ? serve_2 : serve_1;
+  std::unique_ptr<test::Process>& quiet_one = first_is_quiet ? serve_1 : serve_2;
+  const std::string& quiet_log = first_is_quiet ? log_1 : log_2;
+  publishing->signal(SIGTERM);
+  EXPECT_EQ(publishing->wait(60s), 0);
+  ASSERT_TRUE(test::WaitForLogLine(quiet_log, "publishes again", 30s)) << test::ReadFile(quiet_log);
+  test::Process replay(publish_args, test::TempPath("pub_quiet_again.log"));
+  ASSERT_EQ(replay.wait(60s), 0);
+  ASSERT_TRUE(listener.waitUntil([&] { return listener.odometry_samples >= 20; }, 60s)) << listener.summary();
+  quiet_one->signal(SIGTERM);
+  EXPECT_EQ(quiet_one->wait(60s), 0);
+  // The quiet one estimated every frame all along and wrote its results; it counted what it did not publish.
+  const nlohmann::json run = test::ReadJsonObject((first_is_quiet ? out_1 : out_2) + "/a/metrics.json")["run"];
+  EXPECT_EQ(run.value("frames", 0), 20) << run.dump();
+  EXPECT_EQ(run.value("frames_not_published", 0), 10) << run.dump();
+  {
+    std::lock_guard<std::mutex> lock(listener.mutex);
+    EXPECT_EQ(listener.odometry_samples, 20u);
+  }
 }
 
 }  // namespace
