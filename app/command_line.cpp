@@ -319,6 +319,9 @@ int RunCommandLine(int argc, char** argv) {
                           "depth and mask stay png), for links that cannot carry raw images; none: raw Image")
       ->check(CLI::IsMember({"none", "png", "jpeg"}))
       ->capture_default_str();
+  publish_cmd->add_flag("--preload", publish.publish.preload,
+                        "Read and encode every frame before sending the first (a camera host that encodes in hardware: "
+                        "nothing to do per frame but send); holds them all in memory");
   publish_cmd->add_flag("--stamp-now", publish.publish.stamp_now,
                         "Stamp each frame with this host's clock as it is published (as a camera driver does), not the "
                         "dataset's times: latency from capture can then be measured downstream");

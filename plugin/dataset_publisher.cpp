@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "plugin/sensor_publisher.h"
 
@@ -30,13 +32,9 @@ int PublishDataset(const ImageDataset& dataset, const PublishOptions& options, s
   for (int k = 1; k < options.start_frame; ++k)
     if (const auto odometry = dataset.odometryAt(k)) T_odom_camera = T_odom_camera * odometry->T_prev_curr;
   const int end = options.frames > 0 ? std::min(dataset.size(), options.start_frame + options.frames) : dataset.size();
-  const auto period = std::chrono::duration<double>(1.0 / options.rate_hz);
-  auto next = std::chrono::steady_clock::now();
-  int published = 0;
-  for (int k = options.start_frame; k < end && !(stop && *stop); ++k) {
-    ImageFrame frame = dataset.read(k);
-    if (options.stamp_now)
-      frame.t_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+  // Frame k read and encoded, with its own stamp.
+  const auto prepare = [&](int k) {
+    const ImageFrame frame = dataset.read(k);
     // The increment's sigmas, per second of the time it spans: a velocity's uncertainty, which the
     // receiver multiplies by the time between the frames it pairs.
     Vec6 twist_sigma_per_s = Vec6::Zero();
@@ -47,7 +45,28 @@ int PublishDataset(const ImageDataset& dataset, const PublishOptions& options, s
     }
     std::vector<Eigen::Vector4f> scan;
     if (dataset.hasLidar()) scan = dataset.readLidarScan(k);  // as the LiDAR recorded it, in its own frame
-    sensors.publish(frame, T_odom_camera, twist_sigma_per_s, dataset.hasOdometry(), dataset.hasLidar() ? &scan : nullptr);
+    return std::make_pair(sensors.encode(frame, T_odom_camera, twist_sigma_per_s, dataset.hasOdometry(),
+                                         dataset.hasLidar() ? &scan : nullptr),
+                          frame.t_ns);
+  };
+  std::vector<std::pair<EncodedSensorFrame, int64_t>> preloaded;
+  if (options.preload) {
+    size_t bytes = 0;
+    for (int k = options.start_frame; k < end && !(stop && *stop); ++k) {
+      preloaded.push_back(prepare(k));
+      bytes += preloaded.back().first.bytes();
+      if ((k + 1) % 10 == 0 || k + 1 == end) log << "  encoded frame " << k + 1 << "/" << end << std::endl;
+    }
+    log << "  " << preloaded.size() << " frames encoded before sending, " << (bytes >> 20) << " MiB" << std::endl;
+  }
+  const auto period = std::chrono::duration<double>(1.0 / options.rate_hz);
+  auto next = std::chrono::steady_clock::now();
+  int published = 0;
+  for (int k = options.start_frame; k < end && !(stop && *stop); ++k) {
+    auto [encoded, t_ns] = options.preload ? std::move(preloaded[static_cast<size_t>(k - options.start_frame)]) : prepare(k);
+    if (options.stamp_now)
+      t_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+    sensors.publish(encoded, t_ns);
     ++published;
     if ((k + 1) % 10 == 0 || k + 1 == end) log << "  published frame " << k + 1 << "/" << end << std::endl;
     next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period);

@@ -27,6 +27,10 @@ struct PublishOptions {
   // Images as sensor_msgs/CompressedImage on <topic>/compressed (colour PNG or JPEG, depth and mask PNG):
   // what fits a vehicle's 100 Mbit/s link (docs/serve.md, "The vehicle network").
   ImageCompression compression = ImageCompression::kNone;
+  // Read and encode every frame before the first is sent, and send them as they are at the rate: a camera
+  // host with an encoder of its own (hardware JPEG) costs the host it shares a processor with nothing per
+  // frame. Holds every encoded frame in memory.
+  bool preload = false;
 };
 
 // Returns the number of frames published; stops early when *stop becomes true. Throws

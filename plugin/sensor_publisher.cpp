@@ -1,6 +1,7 @@
 #include "plugin/sensor_publisher.h"
 
 #include <chrono>
+#include <optional>
 #include <thread>
 
 #include "nav_msgs_OdometryPubSubTypes.h"
@@ -63,34 +64,69 @@ bool SensorPublisher::waitForReaders(double timeout_s, const std::atomic<bool>* 
   }
 }
 
+struct EncodedSensorFrame::Messages {
+  std::optional<sensor_msgs::msg::CompressedImage> colour_compressed, depth_compressed, mask_compressed;
+  std::optional<sensor_msgs::msg::Image> colour, depth, mask;
+  std::optional<sensor_msgs::msg::PointCloud2> cloud;
+  std::optional<nav_msgs::msg::Odometry> odometry;
+};
+
+EncodedSensorFrame::EncodedSensorFrame(std::unique_ptr<Messages> messages) : messages_(std::move(messages)) {}
+EncodedSensorFrame::~EncodedSensorFrame() = default;
+EncodedSensorFrame::EncodedSensorFrame(EncodedSensorFrame&&) noexcept = default;
+EncodedSensorFrame& EncodedSensorFrame::operator=(EncodedSensorFrame&&) noexcept = default;
+
+size_t EncodedSensorFrame::bytes() const {
+  size_t n = 0;
+  const Messages& m = *messages_;
+  for (const auto* c : {&m.colour_compressed, &m.depth_compressed, &m.mask_compressed})
+    if (*c) n += (*c)->data().size();
+  for (const auto* i : {&m.colour, &m.depth, &m.mask})
+    if (*i) n += (*i)->data().size();
+  if (m.cloud) n += m.cloud->data().size();
+  return n;
+}
+
+EncodedSensorFrame SensorPublisher::encode(const ImageFrame& frame, const SE3& T_odom_camera,
+                                           const Vec6& twist_sigma_per_s, bool with_odometry,
+                                           const std::vector<Eigen::Vector4f>* scan_lidar) const {
+  auto m = std::make_unique<EncodedSensorFrame::Messages>();
+  if (impl_->compression != ImageCompression::kNone) {
+    const auto encode = [&](const cv::Mat& image, ImageRole role) {
+      return EncodeCompressedImage(image, role, impl_->compression, frame.t_ns, "camera");
+    };
+    m->colour_compressed = encode(frame.image, ImageRole::kColour);
+    m->depth_compressed = encode(frame.depth_m, ImageRole::kDepth);
+    if (!frame.instance_ids.empty()) m->mask_compressed = encode(frame.instance_ids, ImageRole::kMask);
+  } else {
+    m->colour = EncodeImage(frame.image, ImageRole::kColour, frame.t_ns, "camera");
+    m->depth = EncodeImage(frame.depth_m, ImageRole::kDepth, frame.t_ns, "camera");
+    if (!frame.instance_ids.empty())
+      m->mask = EncodeImage(MaskForTransport(frame.instance_ids), ImageRole::kMask, frame.t_ns, "camera");
+  }
+  if (impl_->lidar && scan_lidar) m->cloud = EncodePointCloud(*scan_lidar, frame.t_ns, "lidar");
+  if (with_odometry) m->odometry = EncodeOdometry(T_odom_camera, frame.t_ns, "odom", "camera", twist_sigma_per_s);
+  return EncodedSensorFrame(std::move(m));
+}
+
+void SensorPublisher::publish(EncodedSensorFrame& frame, int64_t t_ns) {
+  EncodedSensorFrame::Messages& m = *frame.messages_;
+  const auto stamp = NsToStamp(t_ns);
+  const auto send = [&](dds::DataWriter* writer, auto& message) {
+    if (!message) return;
+    message->header().stamp(stamp);
+    writer->write(&*message);
+  };
+  send(impl_->colour, m.colour_compressed), send(impl_->depth, m.depth_compressed), send(impl_->mask, m.mask_compressed);
+  send(impl_->colour, m.colour), send(impl_->depth, m.depth), send(impl_->mask, m.mask);
+  send(impl_->lidar, m.cloud);
+  send(impl_->odometry, m.odometry);
+}
+
 void SensorPublisher::publish(const ImageFrame& frame, const SE3& T_odom_camera, const Vec6& twist_sigma_per_s,
                               bool with_odometry, const std::vector<Eigen::Vector4f>* scan_lidar) {
-  if (impl_->compression != ImageCompression::kNone) {
-    const auto write = [&](dds::DataWriter* writer, const cv::Mat& image, ImageRole role) {
-      sensor_msgs::msg::CompressedImage msg = EncodeCompressedImage(image, role, impl_->compression, frame.t_ns, "camera");
-      writer->write(&msg);
-    };
-    write(impl_->colour, frame.image, ImageRole::kColour);
-    write(impl_->depth, frame.depth_m, ImageRole::kDepth);
-    if (!frame.instance_ids.empty()) write(impl_->mask, frame.instance_ids, ImageRole::kMask);
-  } else {
-    sensor_msgs::msg::Image colour = EncodeImage(frame.image, ImageRole::kColour, frame.t_ns, "camera");
-    sensor_msgs::msg::Image depth = EncodeImage(frame.depth_m, ImageRole::kDepth, frame.t_ns, "camera");
-    impl_->colour->write(&colour);
-    impl_->depth->write(&depth);
-    if (!frame.instance_ids.empty()) {
-      sensor_msgs::msg::Image mask = EncodeImage(MaskForTransport(frame.instance_ids), ImageRole::kMask, frame.t_ns, "camera");
-      impl_->mask->write(&mask);
-    }
-  }
-  if (impl_->lidar && scan_lidar) {
-    sensor_msgs::msg::PointCloud2 cloud = EncodePointCloud(*scan_lidar, frame.t_ns, "lidar");
-    impl_->lidar->write(&cloud);
-  }
-  if (with_odometry) {
-    nav_msgs::msg::Odometry odometry = EncodeOdometry(T_odom_camera, frame.t_ns, "odom", "camera", twist_sigma_per_s);
-    impl_->odometry->write(&odometry);
-  }
+  EncodedSensorFrame encoded = encode(frame, T_odom_camera, twist_sigma_per_s, with_odometry, scan_lidar);
+  publish(encoded, frame.t_ns);
 }
 
 void SensorPublisher::flush() {

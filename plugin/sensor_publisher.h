@@ -6,6 +6,8 @@
 // `dslam publish` and the latency benchmark; no Fast DDS type appears in this header.
 
 #include <atomic>
+#include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -14,6 +16,22 @@
 #include "plugin/compressed_image.h"
 
 namespace dslam {
+
+// A frame's messages, encoded (images compressed as the publisher that made it compresses them) and ready
+// to send: what a camera that encodes in hardware hands its driver. Opaque (no Fast DDS type here).
+class EncodedSensorFrame {
+ public:
+  ~EncodedSensorFrame();
+  EncodedSensorFrame(EncodedSensorFrame&&) noexcept;
+  EncodedSensorFrame& operator=(EncodedSensorFrame&&) noexcept;
+  size_t bytes() const;  // the payloads it holds
+
+ private:
+  friend class SensorPublisher;
+  struct Messages;
+  explicit EncodedSensorFrame(std::unique_ptr<Messages> messages);
+  std::unique_ptr<Messages> messages_;
+};
 
 class SensorPublisher {
  public:
@@ -33,6 +51,10 @@ class SensorPublisher {
   // when the publisher was made with_lidar.
   void publish(const ImageFrame& frame, const SE3& T_odom_camera, const Vec6& twist_sigma_per_s, bool with_odometry,
                const std::vector<Eigen::Vector4f>* scan_lidar = nullptr);
+  // The same in two steps: the messages encoded, then sent with every header stamped `t_ns`.
+  EncodedSensorFrame encode(const ImageFrame& frame, const SE3& T_odom_camera, const Vec6& twist_sigma_per_s,
+                            bool with_odometry, const std::vector<Eigen::Vector4f>* scan_lidar = nullptr) const;
+  void publish(EncodedSensorFrame& frame, int64_t t_ns);
   // Lets reliable writers deliver what is queued: returns once every reliable reader has acknowledged
   // it, at most 10 s (a reader that discovers this writer late asks for it at the next heartbeat).
   void flush();

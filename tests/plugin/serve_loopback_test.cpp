@@ -585,9 +585,14 @@ TEST(ServeLoopback, AFleetSharedByTwoServesHasEachVehicleServedOnce) {
     return p;
   };
   test::Process publish_a(publish_args(city_a, "a"), test::TempPath("pub_sep_a.log"));
-  test::Process publish_b(publish_args(city_b, "b"), test::TempPath("pub_sep_b.log"));
+  // Vehicle b's frames are all encoded before the first is sent (--preload): the same messages, stamps and
+  // estimates as sending each as it is read.
+  auto preloaded = publish_args(city_b, "b");
+  preloaded.push_back("--preload");
+  test::Process publish_b(preloaded, test::TempPath("pub_sep_b.log"));
   ASSERT_EQ(publish_a.wait(60s), 0);
   ASSERT_EQ(publish_b.wait(60s), 0);
+  EXPECT_NE(test::ReadFile(test::TempPath("pub_sep_b.log")).find("10 frames encoded before sending"), std::string::npos);
   ASSERT_NO_FATAL_FAILURE(ExpectBothEqualTheirReferences(a, city_a, b, city_b, 10));
   ASSERT_TRUE(a.waitForStatusAfter(10, 30s)) << a.summary();
   ASSERT_TRUE(b.waitForStatusAfter(10, 30s)) << b.summary();
