@@ -3,8 +3,10 @@
 // them, every link capped at 100 Mbit/s, 10 Hz, KITTI-size frames (1242x375 colour, depth, mask, odometry), with
 // 0, 1 and 5 % of Ethernet frames dropped at random. For each transport choice (profile file, image
 // compression) it prints the frames serve estimated, the frames the display host received, the latency from
-// capture (publish --stamp-now) to the estimate at the display host, and serve's own stages. Needs root,
-// iproute2 and nftables.
+// capture (publish --stamp-now) to the estimate at the display host, and serve's own stages. The camera host
+// encodes its frames before sending the first (publish --preload): on this one machine its per-frame encoding
+// would otherwise take serve's cores, which a separate camera computer does not. Needs root, iproute2 and
+// nftables.
 // Usage: bench_vehicle_network [DATASET_DIR] [frames=60] [PROFILES.xml | --fleet]
 //   (without a dataset, or with "", it renders the city; needs Xvfb. With a profile file, only that profile is
 //   measured, with PNG and JPEG images: to try a QoS of one's own. --fleet: instead, 1, 2 and 3 vehicles, each on
@@ -87,7 +89,7 @@ void RunOne(const std::string& dataset, int frames, const Transport& t, double l
       net.launcher(),
       net.on("camera", DSLAM_BINARY,
              {"publish", "--dataset", dataset, "--profiles", t.profiles, "--rate", "10", "--compress", t.compress,
-              "--stamp-now", "--wait", "60", "--frames", std::to_string(frames)}),
+              "--stamp-now", "--preload", "--wait", "60", "--frames", std::to_string(frames)}),
       dir + "/publish.log");
   publish.wait(300s);
   // serve stops first (it estimates what it has assembled, and publishes it), then the display host, which ends
