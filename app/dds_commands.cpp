@@ -66,6 +66,14 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
       throw std::invalid_argument("--max-run must be between 0 and 1e9 s, got " + std::to_string(options.max_run_s));
     if (std::error_code ec; std::filesystem::exists(options.out_dir, ec) && !std::filesystem::is_directory(options.out_dir, ec))
       throw std::invalid_argument("--out " + options.out_dir + " is a file, not a folder to write results into");
+    std::vector<std::string> fleet_share;  // this host's vehicles of the fleet
+    if (!options.fleet_share.empty()) {
+      if (options.vehicles.empty()) throw std::invalid_argument("--fleet-share needs the fleet's --vehicle list");
+      fleet_share = VehiclesOfShare(options.vehicles, ParseFleetShare(options.fleet_share));
+      if (fleet_share.empty())
+        throw std::invalid_argument("--fleet-share " + options.fleet_share + " leaves this host no vehicle of the " +
+                                    std::to_string(options.vehicles.size()) + " given");
+    }
     const KittiCalibration calib = ReadKittiCalibration(options.calib_path);
     const auto& P = calib.P[2](0, 0) > 0.0 ? calib.P[2] : calib.P[0];
     serve.camera.fx = P(0, 0), serve.camera.fy = P(1, 1), serve.camera.cx = P(0, 2), serve.camera.cy = P(1, 2);
@@ -80,13 +88,7 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
     serve.domain_id = options.domain_id;
     serve.profiles_file = options.profiles_file;
     if (!options.vehicles.empty()) serve.vehicles = options.vehicles;
-    if (!options.fleet_share.empty()) {
-      if (options.vehicles.empty()) throw std::invalid_argument("--fleet-share needs the fleet's --vehicle list");
-      serve.vehicles = VehiclesOfShare(options.vehicles, ParseFleetShare(options.fleet_share));
-      if (serve.vehicles.empty())
-        throw std::invalid_argument("--fleet-share " + options.fleet_share + " leaves this host no vehicle of the " +
-                                    std::to_string(options.vehicles.size()) + " given");
-    }
+    if (!options.fleet_share.empty()) serve.vehicles = fleet_share;
     serve.assembler.expect_odometry = !options.no_odometry;
     serve.assembler.timeout_ns = static_cast<int64_t>(options.timeout_ms) * 1'000'000;
     serve.assembler.silence_timeout_ns = static_cast<int64_t>(options.silence_ms) * 1'000'000;
