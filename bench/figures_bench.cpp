@@ -6,10 +6,8 @@
 #include <iostream>
 
 #include "app/figures_command.h"
+#include "app/sim_command.h"
 #include "data/frame_memory.h"
-#include "output/run_report.h"
-#include "pipeline/run_sequence.h"
-#include "simulation/scenarios.h"
 
 int main(int argc, char** argv) {
   dslam::KeepFrameBuffersInHeap();  // as dslam runs (data/frame_memory.h)
@@ -19,14 +17,18 @@ int main(int argc, char** argv) {
     std::cerr << "usage: bench_figures [frames >= 2] [dir]\n";
     return 2;
   }
-  dslam::ScenarioOptions scenario;
-  scenario.num_frames = frames;
-  const dslam::Sequence seq = dslam::MakeScenario("city", scenario);
-  dslam::RunConfig config;
-  config.backend.default_mode = dslam::MotionMode::kSmoothed;
-  config.backend.schedule = {dslam::ScheduleKind::kSlidingWindow, 10};
+  // The run as `dslam sim` streams it (ours and both baselines in lockstep, the files written as the
+  // estimates become final), smoothed in the sliding window as `dslam run` estimates.
+  dslam::SimCommandOptions sim;
+  sim.scenario = "city";
+  sim.frames = frames;
+  sim.mode = "smoothed";
+  sim.schedule = "window:10";
+  sim.out_dir = dir;
+  sim.quiet = true;
+  sim.no_figures = true;
   std::cerr << "running the " << frames << "-frame city sequence first...\n";
-  dslam::WriteRunOutputs(dir, seq, dslam::RunSequence(seq, config), {{"command", "sim"}, {"scenario", "city"}});
+  if (const int code = dslam::RunSimCommand(sim, std::cerr, std::cerr); code != 0) return code;
   for (int run = 0; run < 3; ++run) {
     const auto start = std::chrono::steady_clock::now();
     const int code = dslam::RunFiguresCommand(dir, dslam::FigureOptions{}, std::cerr, std::cerr);
