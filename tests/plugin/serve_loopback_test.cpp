@@ -675,5 +675,59 @@ TEST(ServeLoopback, AVehicleGivenToTwoServesIsPublishedByOneAndTheOtherTakesOver
   }
 }
 
+// The odometry's velocity uncertainty (twist covariance) is the increment's sigma over the time the increment
+// spans in the dataset, also when the frames are stamped as they are sent: stamped with the send time, the
+// span was taken from the dataset's previous stamp to now (about 1.8e9 s), which told serve the odometry was
+// exact.
+TEST(ServeLoopback, OdometryStampedWhenSentCarriesTheIncrementsOwnVelocitySigma) {
+  const std::string city = CityDataset(10, 1);
+  const int domain = test::DomainFor(test::DdsTestSlot::kPublishTwist);
+  struct OdometryReader : dds::DataReaderListener {
+    void on_data_available(dds::DataReader* reader) override {
+      nav_msgs::msg::Odometry msg;
+      dds::SampleInfo info;
+      while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
+        if (!info.valid_data) continue;
+        std::string error;
+        const auto pose = DecodeOdometry(msg, &error);
+        std::lock_guard<std::mutex> lock(mutex);
+        if (pose) twist_sigmas.push_back(pose->twist_sigma_per_s);
+      }
+    }
+    std::mutex mutex;
+    std::vector<std::optional<Vec6>> twist_sigmas;
+  } odometry;
+  DdsSession session(domain, LosslessProfiles());
+  session.reader(TopicsFor("").odometry, new nav_msgs::msg::OdometryPubSubType(), "sensor_reader", &odometry);
+  // Readers of the images too, so that publish finds a reader of every input topic and starts at once.
+  for (const std::string& topic : {TopicsFor("").colour, TopicsFor("").depth, TopicsFor("").mask})
+    session.reader(topic, new sensor_msgs::msg::ImagePubSubType(), "sensor_reader", nullptr);
+  auto args = PublishArgs(domain, city, "10");
+  args.push_back("--stamp-now");
+  test::Process publish(args, test::TempPath("pub_twist.log"));
+  ASSERT_EQ(publish.wait(60s), 0) << test::ReadFile(test::TempPath("pub_twist.log"));
+  const ImageDataset dataset(city, ImageDatasetOptions{});
+  for (int i = 0; i < 100; ++i) {
+    {
+      std::lock_guard<std::mutex> lock(odometry.mutex);
+      if (odometry.twist_sigmas.size() >= 10) break;
+    }
+    std::this_thread::sleep_for(50ms);
+  }
+  std::lock_guard<std::mutex> lock(odometry.mutex);
+  ASSERT_EQ(odometry.twist_sigmas.size(), 10u);
+  int checked = 0;
+  for (int k = 1; k < 10; ++k) {
+    const auto increment = dataset.odometryAt(k);
+    ASSERT_TRUE(increment);
+    const double dt_s = 1e-9 * static_cast<double>(dataset.stampNs(k) - dataset.stampNs(k - 1));
+    ASSERT_TRUE(odometry.twist_sigmas[static_cast<size_t>(k)]) << k;
+    const Vec6 expected = increment->sigma / dt_s;
+    EXPECT_LT((*odometry.twist_sigmas[static_cast<size_t>(k)] - expected).norm(), 1e-9 * expected.norm()) << k;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 9);
+}
+
 }  // namespace
 }  // namespace dslam

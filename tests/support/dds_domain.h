@@ -12,7 +12,7 @@ namespace dslam::test {
 enum class DdsTestSlot { kLoopbackEqual = 0, kLoopbackBadSamples, kLoopbackRestart, kLoopbackTwoProcesses, kSecurity,
                          kLoopbackSigkill, kServeNodeErrors, kPublishStop, kLoopbackSecondSignal, kLoopbackSamplesLost,
                          kCycloneListener, kCycloneCameraDriver, kCycloneImageReader, kRosGraphJazzy, kRosGraphHumble,
-                         kLoopbackNewestWins, kServeLidar, kLoopbackQuiet, kSlots };
+                         kLoopbackNewestWins, kServeLidar, kLoopbackQuiet, kPublishTwist, kSlots };
 static_assert(static_cast<int>(DdsTestSlot::kSlots) <= 32, "32 domain ids per build tree");
 
 // The slot's domain id: the base (0, 32, ..., 192; domain ids go up to 232) comes from the test binary's
