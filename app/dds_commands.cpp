@@ -134,8 +134,9 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
     while (!g_stop) {
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
       const auto now = std::chrono::steady_clock::now();
+      const std::map<std::string, VehicleStatus> statuses = node.status();  // one snapshot for the lines below
       // Another serve publishing one of our vehicles: said at once, and again when it leaves.
-      for (const auto& [name, s] : node.status()) {
+      for (const auto& [name, s] : statuses) {
         if (s.quiet_for == quiet_reported[name]) continue;
         if (s.quiet)
           out << "dslam serve: warning: vehicle '" << name << "' is also published by another serve (participant "
@@ -148,7 +149,7 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
       }
       // Lost input samples are a network problem the user can fix: said at once, at most every 5 s.
       if (now - last_loss_warning > std::chrono::seconds(5)) {
-        for (const auto& [name, s] : node.status()) {
+        for (const auto& [name, s] : statuses) {
           if (s.counters.samples_lost <= lost_reported[name]) continue;
           out << "dslam serve: warning: vehicle '" << name << "': " << s.counters.samples_lost
               << " input samples lost so far (gaps in the writers' sequence numbers: over UDP usually fragments the "
@@ -161,7 +162,7 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
       if (options.max_run_s > 0 && std::chrono::duration<double>(now - start).count() > options.max_run_s) break;
       if (options.status_every_s > 0 && std::chrono::duration<double>(now - last_status).count() > options.status_every_s) {
         last_status = now;
-        for (const auto& [name, s] : node.status()) {
+        for (const auto& [name, s] : statuses) {
           out << "  vehicle '" << name << "': " << s.counters.parts_received << " samples, " << s.frames_processed
               << " frames processed, " << s.counters.dropped_incomplete << " incomplete, "
               << s.counters.dropped_queue_full << " dropped (backlog full), "

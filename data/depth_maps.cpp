@@ -207,9 +207,11 @@ cv::Mat FillSparseDepth(const cv::Mat& depth_m, int radius_px, const cv::Mat& la
       if (!(in[u] <= 0.0f) || !(out[u] < kNone / 2)) out[u] = in[u];
     if (!by_label) continue;
     const float* far = farthest.ptr<float>(v);
+    const uint16_t* labels16 = labels.type() == CV_16UC1 ? labels.ptr<uint16_t>(v) : nullptr;
+    const int* labels32 = labels16 ? nullptr : labels.ptr<int>(v);
     for (int u = 0; u < depth_m.cols; ++u) {
       if (!(in[u] <= 0.0f) || !(far[u] > out[u] * agree)) continue;  // its own return, or a window that agrees
-      const bool background = labels.type() == CV_16UC1 ? labels.ptr<uint16_t>(v)[u] == 0 : labels.ptr<int>(v)[u] <= 0;
+      const bool background = labels16 ? labels16[u] == 0 : labels32[u] <= 0;
       if (background) out[u] = 0.0f;
     }
   }
