@@ -5,7 +5,8 @@
 #include <chrono>
 #include <exception>
 #include <fstream>
-#include <set>
+#include <future>
+#include <map>
 #include <sstream>
 
 #include "output/frame_overlay.h"
@@ -17,20 +18,21 @@
 namespace dslam {
 namespace {
 
-// A few frames with each object's mask, id and speed drawn on them (frame_NNNNNN.png), for the report.
-void WriteFrameOverlays(const ImageDataset& dataset, const RunConfig& config,
-                        const std::vector<ObjectMotionEstimate>& motions, const std::set<int>& frames,
+// A few frames with each object's mask, id and speed drawn on them (frame_NNNNNN.png), for the report: drawn
+// from the frames the stream kept, one thread each (the run's last serial step; each PNG takes tens of ms).
+void WriteFrameOverlays(const std::map<int, KeptFrame>& frames, const std::vector<ObjectMotionEstimate>& motions,
                         const std::string& dir) {
-  for (int k : frames) {
-    ImageFrame frame = dataset.read(k);
-    ApplyMaskSource(MaskSourceOf(config), dataset.camera(), frame);
-    std::vector<ObjectMotionEstimate> here;
-    for (const ObjectMotionEstimate& m : motions)
-      if (m.frame == k) here.push_back(m);
-    char name[32];
-    std::snprintf(name, sizeof name, "/frame_%06d.png", k);
-    WriteOverlayPng(DrawObjectOverlay(frame.image, frame.instance_ids, here), dir + name);
-  }
+  std::vector<std::future<void>> writing;
+  for (const auto& [k, frame] : frames)
+    writing.push_back(std::async(std::launch::async, [&, k = k] {
+      std::vector<ObjectMotionEstimate> here;
+      for (const ObjectMotionEstimate& m : motions)
+        if (m.frame == k) here.push_back(m);
+      char name[32];
+      std::snprintf(name, sizeof name, "/frame_%06d.png", k);
+      WriteOverlayPng(DrawObjectOverlay(frame.image, frame.instance_ids, here), dir + name);
+    }));
+  for (auto& w : writing) w.get();  // throws the first error; the other futures wait for their writes
 }
 
 }  // namespace
@@ -75,7 +77,7 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
     const int frames = FramesToRun(dataset, options.frames);
     const bool overlays = with_ours && (dataset.hasMasks() || config.masks.source != MaskSourceKind::kDataset);
     if (overlays)
-      for (int k : OverlayFrames(frames, 4)) run.keep_motions_of.insert(k);
+      for (int k : OverlayFrames(frames, 4)) run.keep_frames.insert(k);
 
     // One stream: the front-end and the methods (ours and the baselines in lockstep) run in parallel; the
     // result files grow as the estimates become final (a crash loses only the window), and the metrics
@@ -104,10 +106,7 @@ int RunRunCommand(const RunCommandOptions& options, std::ostream& out, std::ostr
     if (!result.stopped_by.empty()) info["stopped_by"] = result.stopped_by;
     info["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     WriteMetricsJson(options.out_dir, outcomes, info);
-    std::set<int> overlay_frames;  // those the run reached
-    for (int k : run.keep_motions_of)
-      if (k < summary.frames) overlay_frames.insert(k);
-    if (overlays) WriteFrameOverlays(dataset, config, result.kept_motions, overlay_frames, options.out_dir);
+    if (overlays) WriteFrameOverlays(result.kept_frames, result.kept_motions, options.out_dir);
 
     std::ostringstream discarded;  // --quiet: only errors
     std::ostream& report = options.quiet ? discarded : out;

@@ -269,10 +269,10 @@ ImageRunResult RunImageStreamed(const ImageDataset& dataset, const RunConfig& co
       MakeMethodOutputs(options.methods, options.out_dir, gt ? &*gt : nullptr, rate, options.object_category);
   std::vector<std::unique_ptr<EstimateSink>> wrappers;
   std::map<Method, EstimateSink*> sinks;
-  KeptMotions kept(options.keep_motions_of);
+  KeptMotions kept(options.keep_frames);
   for (auto& [method, output] : outputs) {
     EstimateSink* sink = output.get();
-    if (method == Method::kOurs && !options.keep_motions_of.empty())
+    if (method == Method::kOurs && !options.keep_frames.empty())
       sink = wrappers.emplace_back(std::make_unique<TeeSink>(sink, &kept)).get();
     sinks[method] = wrappers.emplace_back(std::make_unique<LockedSink>(sink, &outputs_mutex)).get();
   }
@@ -310,6 +310,7 @@ ImageRunResult RunImageStreamed(const ImageDataset& dataset, const RunConfig& co
   StagedPipeline pipeline(config, dataset.camera(), rate, kQueueCapacity, callbacks, nullptr, /*collect=*/false, sinks);
   double read_s = 0.0;
   std::string stopped_by;
+  std::map<int, KeptFrame> kept_frames;
   for (int k = 0; k < frames; ++k) {
     const int64_t received_ns = SteadyClockNs();
     ImageFrame frame;
@@ -325,7 +326,10 @@ ImageRunResult RunImageStreamed(const ImageDataset& dataset, const RunConfig& co
     frame.timing.received_ns = received_ns;
     frame.timing.assembled_ns = SteadyClockNs();
     read_s += 1e-9 * static_cast<double>(frame.timing.assembled_ns - received_ns);
+    std::optional<KeptFrame> keep;
+    if (options.keep_frames.count(k)) keep = KeptFrame{frame.image.clone(), frame.instance_ids.clone()};
     if (!pipeline.push(std::move(frame))) break;  // a stage failed: finish() throws its error
+    if (keep) kept_frames[k] = std::move(*keep);
     if (options.after_frame) options.after_frame(k + 1);
   }
   pipeline.finish();
@@ -338,6 +342,7 @@ ImageRunResult RunImageStreamed(const ImageDataset& dataset, const RunConfig& co
   result.outcomes =
       FinishMethodOutputs(outputs, [&](Method m) { return pipeline.wallTimeS(m); }, &result.ours_objects);
   result.kept_motions = std::move(kept.kept);
+  result.kept_frames = std::move(kept_frames);
   if (!options.out_dir.empty()) {
     if (gt && !stopped_by.empty()) TruncateGroundTruth(static_cast<int>(t_ns.size()), &*gt);  // the frames run
     WriteGroundTruthFiles(options.out_dir, gt ? *gt : GroundTruth{}, t_ns);

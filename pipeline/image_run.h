@@ -3,6 +3,7 @@
 // measurements the back-end consumes) or streamed with the methods behind it (`dslam run`).
 
 #include <functional>
+#include <map>
 #include <ostream>
 #include <set>
 #include <string>
@@ -17,6 +18,12 @@
 #include "pipeline/stage_latency.h"
 
 namespace dslam {
+
+// A frame's image and instance masks, kept beyond the stream.
+struct KeptFrame {
+  cv::Mat image;
+  cv::Mat instance_ids;
+};
 
 struct ImageRunSummary {
   int frames = 0;
@@ -53,7 +60,9 @@ struct ImageRunOptions {
   std::ostream* progress = nullptr;  // progress lines; nullptr = quiet
   std::ostream* frame_log = nullptr; // as RunImageFrontend's
   std::string object_category;       // object metrics over this category only (empty: all)
-  std::set<int> keep_motions_of;     // frames whose final object motions (ours') the result keeps
+  // Frames whose image and masks (as the front-end saw them) and ours' final object motions the result
+  // keeps: the report's overlays are drawn from them without reading those frames again.
+  std::set<int> keep_frames;
   // Replay the dataset forwards and backwards in turn (data/ping_pong_replay.h) for max_frames frames: a
   // long run from a short recording, for memory benchmarks; nothing is evaluated.
   bool ping_pong = false;
@@ -65,7 +74,8 @@ struct ImageRunResult {
   ImageRunSummary summary;
   MethodOutcomes outcomes;  // metrics (with ground truth) and wall times; the estimates are in the files
   std::vector<ObjectSummary> ours_objects;            // with ground truth
-  std::vector<ObjectMotionEstimate> kept_motions;     // ours', of the frames in keep_motions_of
+  std::vector<ObjectMotionEstimate> kept_motions;     // ours', of the frames in keep_frames
+  std::map<int, KeptFrame> kept_frames;               // the frames in keep_frames that were run
   // Why the run stopped before the last frame (a frame that could not be read: the error, naming the file);
   // empty when it ran to the end. The frames before it are estimated and their files written whole.
   std::string stopped_by;

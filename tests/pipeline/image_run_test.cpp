@@ -37,7 +37,7 @@ TEST(ImageRun, TheStreamedRunEqualsTheFrontEndFollowedByTheCollectedMethods) {
   run.out_dir = test::TempPath("image_run_streamed");
   std::ostringstream streamed_log;
   run.frame_log = &streamed_log;
-  run.keep_motions_of = {3, 8};
+  run.keep_frames = {3, 8};
   const ImageRunResult streamed = RunImageStreamed(data, config, run);
 
   EXPECT_EQ(streamed.summary.frames, 12);
@@ -65,6 +65,16 @@ TEST(ImageRun, TheStreamedRunEqualsTheFrontEndFollowedByTheCollectedMethods) {
   ASSERT_FALSE(want.empty());
   ASSERT_EQ(streamed.kept_motions.size(), want.size());
   for (const ObjectMotionEstimate& m : streamed.kept_motions) EXPECT_TRUE(m.frame == 3 || m.frame == 8);
+  // And those frames' image and masks as the front-end saw them (the overlays are drawn from them).
+  ASSERT_EQ(streamed.kept_frames.size(), 2u);
+  for (int k : {3, 8}) {
+    ASSERT_TRUE(streamed.kept_frames.count(k)) << k;
+    const KeptFrame& kept = streamed.kept_frames.at(k);
+    const ImageFrame read = data.read(k);
+    ASSERT_FALSE(read.instance_ids.empty());
+    EXPECT_EQ(cv::norm(kept.image, read.image, cv::NORM_INF), 0.0) << k;
+    EXPECT_EQ(cv::norm(kept.instance_ids, read.instance_ids, cv::NORM_INF), 0.0) << k;
+  }
 }
 
 // A baseline alone runs without ours (nothing of ours is written), and gets what it gets beside ours.
