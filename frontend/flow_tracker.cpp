@@ -113,16 +113,26 @@ FlowResult FlowTracker::LucasKanadeBothWays(const GreyPyramid& prev, const GreyP
                            window, levels, stop,
                            predicted.empty() ? 0 : cv::OPTFLOW_USE_INITIAL_FLOW);
   // The backward pass starts where the forward pass ended, moved back by the predicted motion (if any):
-  // started at the origin it would return there even from a wrong match on an ambiguous texture.
-  std::vector<cv::Point2f> back = result.points;
-  if (!predicted.empty())
-    for (size_t i = 0; i < back.size(); ++i) back[i] -= predicted[i] - prev_points[i];
-  cv::calcOpticalFlowPyrLK(LucasKanadeInput(curr), LucasKanadeInput(prev), result.points, back, status_bwd, err, window,
-                           levels, stop, cv::OPTFLOW_USE_INITIAL_FLOW);
+  // started at the origin it would return there even from a wrong match on an ambiguous texture. Only the
+  // points the forward pass kept inside the image go back (each point's search is independent of the others).
+  std::vector<int> back_of;
+  std::vector<cv::Point2f> from, back;
+  back_of.reserve(prev_points.size());
+  from.reserve(prev_points.size());
+  back.reserve(prev_points.size());
   for (size_t i = 0; i < prev_points.size(); ++i) {
-    result.fb_error_px[i] = static_cast<float>(cv::norm(back[i] - prev_points[i]));
-    result.ok[i] = status_fwd[i] && status_bwd[i] && Inside(result.points[i], prev.gray.size()) &&
-                   result.fb_error_px[i] <= params_.fb_threshold_px;
+    if (!status_fwd[i] || !Inside(result.points[i], prev.gray.size())) continue;
+    back_of.push_back(static_cast<int>(i));
+    from.push_back(result.points[i]);
+    back.push_back(predicted.empty() ? result.points[i] : result.points[i] - (predicted[i] - prev_points[i]));
+  }
+  if (from.empty()) return result;
+  cv::calcOpticalFlowPyrLK(LucasKanadeInput(curr), LucasKanadeInput(prev), from, back, status_bwd, err, window,
+                           levels, stop, cv::OPTFLOW_USE_INITIAL_FLOW);
+  for (size_t j = 0; j < back_of.size(); ++j) {
+    const int i = back_of[j];
+    result.fb_error_px[i] = static_cast<float>(cv::norm(back[j] - prev_points[i]));
+    result.ok[i] = status_bwd[j] && result.fb_error_px[i] <= params_.fb_threshold_px;
   }
   return result;
 }

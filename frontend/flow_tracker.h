@@ -42,7 +42,8 @@ struct GreyPyramid {
 struct FlowResult {
   std::vector<cv::Point2f> points;  // positions in the current image
   std::vector<uint8_t> ok;          // 1: tracked, inside the image and forward-backward consistent
-  std::vector<float> fb_error_px;   // forward-backward distance (0 without a backward field)
+  std::vector<float> fb_error_px;   // forward-backward distance (0 where the forward pass lost the point, or
+                                    // without a backward field)
 };
 
 class FlowTracker {
