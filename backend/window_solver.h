@@ -25,7 +25,9 @@ struct WindowSolveOptions {
   int first_frame = 0;
   int last_frame = 0;
   int max_iterations = 10;
-  double function_tolerance = 1e-3;  // stop when the cost falls by less than this fraction
+  // Stop when the cost falls by less than this fraction, or when the next fall, predicted from the last two
+  // (d_next = d^2 / d_previous: a converging Gauss-Newton's falls shrink at least linearly), would.
+  double function_tolerance = 1e-3;
   bool fix_cameras = false;          // SLAM+MOT's object stage: camera poses come from the static stage
   // After the solve, each motion's marginal covariance (MotionVariable::covariance) from the window's
   // information, read from the last step's factorisation (no extra linearisation).
@@ -50,6 +52,7 @@ struct WindowSolveSummary {
   int num_iterations = 0;
   double initial_cost = 0.0;
   double final_cost = 0.0;
+  std::vector<double> relative_decreases;  // of each accepted step, in order
   std::vector<CameraStepCovariance> camera_step_covariances;  // in frame order
 };
 

@@ -39,6 +39,29 @@ TEST(WindowSolver, ReachesTheSameMinimumAsCeres) {
     EXPECT_TRUE(m.worldMotion().isApprox(ceres_graph.motions.at(id).worldMotion(), 1e-6)) << id;
 }
 
+// The solve stops at the first accepted step whose fall, or the next fall predicted from the last two, is
+// under the tolerance; what the skipped steps would have taken is under the tolerance too.
+TEST(WindowSolver, StopsWhenTheNextFallIsPredictedUnderTheTolerance) {
+  BackendParams params;
+  params.default_mode = MotionMode::kSmoothed;
+  FactorGraph graph = CityGraph(8, params);
+  FactorGraph converged = graph;
+  WindowSolveOptions window;
+  window.last_frame = 7;
+  window.function_tolerance = 1e-3;
+  const WindowSolveSummary summary = SolveWindow(params, window, &graph);
+  const std::vector<double>& d = summary.relative_decreases;
+  ASSERT_GE(d.size(), 2u);
+  const double tol = window.function_tolerance;
+  auto stops_at = [&](size_t i) { return d[i] < tol || (i > 0 && d[i] * d[i] / d[i - 1] < tol); };
+  for (size_t i = 0; i + 1 < d.size(); ++i) EXPECT_FALSE(stops_at(i)) << i;
+  EXPECT_TRUE(stops_at(d.size() - 1));
+  EXPECT_GE(d.back(), tol);  // the prediction stopped it: the fall alone would have asked for another step
+  const WindowSolveSummary optimum = SolveWindow(params, Converged<WindowSolveOptions>(7), &converged);
+  EXPECT_GT(optimum.num_iterations, summary.num_iterations);
+  EXPECT_LT((summary.final_cost - optimum.final_cost) / summary.final_cost, tol);
+}
+
 TEST(WindowSolver, HeldCamerasDoNotMove) {
   BackendParams params;
   FactorGraph graph = CityGraph(5, params);
