@@ -656,8 +656,8 @@ WindowSolveSummary SolveWindow(const BackendParams& params, const WindowSolveOpt
     cost = new_cost;
     lambda = std::max(lambda / 3.0, 1e-10);
     if (decrease < options.function_tolerance) break;
-    // The next fall, predicted from the last two, would be below the tolerance too: that step would not be
-    // worth its linearisation (it took a third of the window's solves on the demo scene).
+    // The next decrease, predicted from the last two, would be below the tolerance too: that step would not
+    // be worth its linearisation (on the demo scene, 75 of the 244 iterations of its 60 solves).
     if (previous_decrease > 0.0 && decrease * (decrease / previous_decrease) < options.function_tolerance) break;
     previous_decrease = decrease;
   }

@@ -25,8 +25,8 @@ struct WindowSolveOptions {
   int first_frame = 0;
   int last_frame = 0;
   int max_iterations = 10;
-  // Stop when the cost falls by less than this fraction, or when the next fall, predicted from the last two
-  // (d_next = d^2 / d_previous: a converging Gauss-Newton's falls shrink at least linearly), would.
+  // Stop when the cost falls by less than this fraction, or when the next decrease, predicted from the last
+  // two (d_next = d^2 / d_previous: a converging Gauss-Newton's decreases shrink at least linearly), would.
   double function_tolerance = 1e-3;
   bool fix_cameras = false;          // SLAM+MOT's object stage: camera poses come from the static stage
   // After the solve, each motion's marginal covariance (MotionVariable::covariance) from the window's

@@ -39,7 +39,7 @@ TEST(WindowSolver, ReachesTheSameMinimumAsCeres) {
     EXPECT_TRUE(m.worldMotion().isApprox(ceres_graph.motions.at(id).worldMotion(), 1e-6)) << id;
 }
 
-// The solve stops at the first accepted step whose fall, or the next fall predicted from the last two, is
+// The solve stops at the first accepted step whose decrease, or the next one predicted from the last two, is
 // under the tolerance; what the skipped steps would have taken is under the tolerance too.
 TEST(WindowSolver, StopsWhenTheNextFallIsPredictedUnderTheTolerance) {
   BackendParams params;
