@@ -86,14 +86,16 @@ cv::_InputArray LucasKanadeInput(const GreyPyramid& image) {
 
 }  // namespace
 
-GreyPyramid FlowTracker::pyramid(const cv::Mat& gray) const {
+GreyPyramid BuildGreyPyramid(const FlowParams& params, const cv::Mat& gray) {
   if (gray.type() != CV_8UC1) throw std::invalid_argument("flow needs 8-bit grey images");
   GreyPyramid out{gray, {}};
-  if (params_.method == FlowMethod::kLucasKanade)
-    cv::buildOpticalFlowPyramid(gray, out.levels, cv::Size(params_.lk_window_px, params_.lk_window_px),
-                                params_.lk_pyramid_levels, true);
+  if (params.method == FlowMethod::kLucasKanade)
+    cv::buildOpticalFlowPyramid(gray, out.levels, cv::Size(params.lk_window_px, params.lk_window_px),
+                                params.lk_pyramid_levels, true);
   return out;
 }
+
+GreyPyramid FlowTracker::pyramid(const cv::Mat& gray) const { return BuildGreyPyramid(params_, gray); }
 
 FlowResult FlowTracker::LucasKanadeBothWays(const GreyPyramid& prev, const GreyPyramid& curr,
                                              const std::vector<cv::Point2f>& prev_points,

@@ -39,6 +39,10 @@ struct GreyPyramid {
   std::vector<cv::Mat> levels;  // empty: a search builds what it needs from `gray`
 };
 
+// `gray` (CV_8UC1) with the pyramid a FlowTracker of these parameters searches (none for methods other than
+// Lucas-Kanade). Depends on nothing else: any thread may build a frame's.
+GreyPyramid BuildGreyPyramid(const FlowParams& params, const cv::Mat& gray);
+
 struct FlowResult {
   std::vector<cv::Point2f> points;  // positions in the current image
   std::vector<uint8_t> ok;          // 1: tracked, inside the image and forward-backward consistent

@@ -135,10 +135,48 @@ void ImageFrontend::restore(Snapshot&& s) {
 
 ImageFrontend::~ImageFrontend() = default;
 
-FrameMeasurement ImageFrontend::process(const ImageFrame& frame) {
+PreparedFrame ImageFrontend::Prepare(const FrontendParams& params, const ImageFrame& frame) {
+  if (const std::string bad = FindInvalidImageFrame(frame); !bad.empty()) throw std::invalid_argument(bad);
+  PreparedFrame out;
+  const cv::Mat gray = GreyImage(frame.image);
+  out.labels = ToLabels(frame.instance_ids, gray.size());
+  const cv::Mat& labels = out.labels;
+
+  // Mask labels large enough to be objects, with their bounding boxes (later work stays inside them).
+  std::map<int, int>& label_areas = out.label_areas;
+  std::map<int, cv::Rect>& label_boxes = out.label_boxes;
+  for (int v = 0; v < labels.rows; ++v) {
+    const int32_t* row = labels.ptr<int32_t>(v);
+    for (int u = 0; u < labels.cols;) {
+      if (row[u] <= 0) {
+        ++u;
+        continue;
+      }
+      int end = u + 1;  // a run of one label: one map update per run, not per pixel
+      while (end < labels.cols && row[end] == row[u]) ++end;
+      label_areas[row[u]] += end - u;
+      cv::Rect& box = label_boxes[row[u]];
+      box = box.empty() ? cv::Rect(u, v, end - u, 1) : (box | cv::Rect(u, v, end - u, 1));
+      u = end;
+    }
+  }
+  const double min_area = params.min_mask_area_pct / 100.0 * labels.total();
+  for (auto it = label_areas.begin(); it != label_areas.end();) it = it->second < min_area ? label_areas.erase(it) : ++it;
+
+  // Pixels near a mask edge mix the depths of object and background, and a point tracked there may be
+  // sliding along an occluding contour: no points are kept or created there.
+  out.near_edge = NearMaskEdge(labels, params.mask_border_px);
+  // This frame's pyramid, built once: every search from the previous frame and, next frame, from this one reads it.
+  out.grey = BuildGreyPyramid(params.flow, gray);
+  out.background_allowed = NewPointMask(labels, frame.depth_m, out.near_edge, cv::Rect(0, 0, gray.cols, gray.rows), 0,
+                                        params.static_min_depth_m, params.static_max_depth_m);
+  return out;
+}
+
+FrameMeasurement ImageFrontend::process(const ImageFrame& frame, const PreparedFrame* prepared) {
   auto before = std::make_unique<Snapshot>(save());
   try {
-    FrameMeasurement m = processUncommitted(frame);
+    FrameMeasurement m = processUncommitted(frame, prepared);
     if (const std::string bad = FindInvalidMeasurement(m); !bad.empty())
       throw std::invalid_argument("the front-end's measurement is not valid: " + bad);
     before_last_ = std::move(before);
@@ -155,7 +193,7 @@ void ImageFrontend::undoLast() {
   before_last_.reset();
 }
 
-FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
+FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame, const PreparedFrame* prepared) {
   if (const std::string bad = FindInvalidImageFrame(frame); !bad.empty()) throw std::invalid_argument(bad);
   if (frame.image.cols != camera_.width || frame.image.rows != camera_.height)
     throw std::invalid_argument("frame " + std::to_string(frame.frame_index) + ": image is " +
@@ -171,37 +209,16 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
 
   FrontendFrameStats stats;
   PhaseClock phase;
-  const cv::Mat gray = GreyImage(frame.image);
-  const cv::Mat labels = ToLabels(frame.instance_ids, gray.size());
+  std::optional<PreparedFrame> made_here;
+  if (!prepared) prepared = &made_here.emplace(Prepare(params_, frame));
+  const GreyPyramid& grey = prepared->grey;
+  const cv::Mat& gray = grey.gray;
+  const cv::Mat& labels = prepared->labels;
+  const std::map<int, int>& label_areas = prepared->label_areas;
+  const std::map<int, cv::Rect>& label_boxes = prepared->label_boxes;
+  const cv::Mat& near_edge = prepared->near_edge;
   const cv::Mat& depth = frame.depth_m;
-
-  // Mask labels large enough to be objects, with their bounding boxes (later work stays inside them).
-  std::map<int, int> label_areas;
-  std::map<int, cv::Rect> label_boxes;
-  for (int v = 0; v < labels.rows; ++v) {
-    const int32_t* row = labels.ptr<int32_t>(v);
-    for (int u = 0; u < labels.cols;) {
-      if (row[u] <= 0) {
-        ++u;
-        continue;
-      }
-      int end = u + 1;  // a run of one label: one map update per run, not per pixel
-      while (end < labels.cols && row[end] == row[u]) ++end;
-      label_areas[row[u]] += end - u;
-      cv::Rect& box = label_boxes[row[u]];
-      box = box.empty() ? cv::Rect(u, v, end - u, 1) : (box | cv::Rect(u, v, end - u, 1));
-      u = end;
-    }
-  }
-  const double min_area = params_.min_mask_area_pct / 100.0 * labels.total();
-  for (auto it = label_areas.begin(); it != label_areas.end();) it = it->second < min_area ? label_areas.erase(it) : ++it;
   for (const auto& [label, area] : label_areas) stats.mask_labels.push_back(label);
-
-  // Pixels near a mask edge mix the depths of object and background, and a point tracked there may be
-  // sliding along an occluding contour: no points are kept or created there.
-  const cv::Mat near_edge = NearMaskEdge(labels, params_.mask_border_px);
-  // This frame's pyramid, built once: every search from the previous frame and, next frame, from this one reads it.
-  const GreyPyramid grey = flow_.pyramid(gray);
   stats.phase_ms.prepare_ms = phase.lap();
 
   // 1. Flow.
@@ -369,7 +386,8 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
 
   // 5. New points.
   const size_t before = tracks.size();
-  replenish(gray, depth, labels, near_edge, object_of_label, label_boxes, T_prev_curr, &tracks);
+  replenish(gray, depth, labels, near_edge, prepared->background_allowed, object_of_label, label_boxes, T_prev_curr,
+            &tracks);
   stats.phase_ms.replenish_ms = phase.lap();
   for (size_t i = before; i < tracks.size(); ++i) {
     (tracks[i].object_id == 0 ? stats.static_new : stats.object_points_new)++;
@@ -414,7 +432,7 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame) {
   stats.objects = static_cast<int>(out.objects.size());
 
   tracks_ = std::move(tracks);
-  prev_label_boxes_ = std::move(label_boxes);
+  prev_label_boxes_ = label_boxes;
   last_camera_motion_ = T_prev_curr;
   for (auto it = last_object_motion_.begin(); it != last_object_motion_.end();)
     it = frame.frame_index - it->second.frame_index > kObjectMotionMemoryFrames ? last_object_motion_.erase(it) : ++it;
@@ -690,12 +708,10 @@ void ImageFrontend::resolveStillHypothesis(const GreyPyramid& grey, const std::v
 }
 
 void ImageFrontend::replenish(const cv::Mat& gray, const cv::Mat& depth, const cv::Mat& labels,
-                              const cv::Mat& near_edge, const std::map<int, int>& object_of_label,
+                              const cv::Mat& near_edge, const cv::Mat& background,
+                              const std::map<int, int>& object_of_label,
                               const std::map<int, cv::Rect>& label_boxes, const std::optional<SE3>& T_prev_curr,
                               std::vector<Track>* tracks) {
-  const cv::Rect image(0, 0, gray.cols, gray.rows);
-  const cv::Mat background = NewPointMask(labels, depth, near_edge, image, 0, params_.static_min_depth_m,
-                                          params_.static_max_depth_m);
   std::vector<cv::Point2f> existing;
   for (const Track& t : *tracks)
     if (t.object_id == 0) existing.push_back(t.px);

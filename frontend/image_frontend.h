@@ -63,8 +63,25 @@ struct FrontendFrameStats {
   PhaseTimes phase_ms;
 };
 
+// What the front-end takes from a frame alone, before any tracking: its grey image and pyramid, its mask
+// labels (CV_32SC1) with the areas of those large enough to be objects and every label's box, and the
+// pixels near a mask edge. ImageFrontend::Prepare makes it on any thread, so that a pipeline can prepare
+// frame k+1 while the front-end tracks frame k.
+struct PreparedFrame {
+  GreyPyramid grey;
+  cv::Mat labels;
+  std::map<int, int> label_areas;       // labels at least min_mask_area_pct of the image
+  std::map<int, cv::Rect> label_boxes;  // every label's box
+  cv::Mat near_edge;                    // CV_8UC1, non-zero within mask_border_px of a mask edge
+  cv::Mat background_allowed;           // CV_8UC1, non-zero where a new static point may go (no label, no
+                                        // mask edge, depth within the static range)
+};
+
 class ImageFrontend {
  public:
+  // Throws std::invalid_argument naming what is wrong with a frame that cannot be prepared (FindInvalidImageFrame).
+  static PreparedFrame Prepare(const FrontendParams& params, const ImageFrame& frame);
+
   ImageFrontend(const FrontendParams& params, const PinholeCamera& camera);
   ~ImageFrontend();
 
@@ -72,7 +89,8 @@ class ImageFrontend {
   // measurement it would give (the back-end's own check, data/measurements.h: what the front-end commits
   // the back-end takes); the front-end's state is then unchanged, whatever was thrown, and the next good
   // frame continues from the last good one.
-  FrameMeasurement process(const ImageFrame& frame);
+  // `prepared`, when given, is Prepare(params, frame) made elsewhere; the result is the same.
+  FrameMeasurement process(const ImageFrame& frame, const PreparedFrame* prepared = nullptr);
   // Takes back the last process() (once): for a caller whose next stage refused its measurement, so that
   // both stages commit a frame together or not at all. Throws std::logic_error when there is nothing to undo.
   void undoLast();
@@ -90,9 +108,10 @@ class ImageFrontend {
   // New background features on a grid and object points inside the masks, up to each object's cap. A
   // point that an object's confirmed motion and the camera's motion T_prev_curr, repeated, take out of
   // the image by the next frame can give no pair there: it does not count towards the cap and is not
-  // added, so a car leaving the view, its front first, gets points on the side that stays.
+  // added, so a car leaving the view, its front first, gets points on the side that stays. `background`:
+  // PreparedFrame::background_allowed.
   void replenish(const cv::Mat& gray, const cv::Mat& depth, const cv::Mat& labels, const cv::Mat& near_edge,
-                 const std::map<int, int>& object_of_label, const std::map<int, cv::Rect>& label_boxes,
+                 const cv::Mat& background, const std::map<int, int>& object_of_label, const std::map<int, cv::Rect>& label_boxes,
                  const std::optional<SE3>& T_prev_curr, std::vector<Track>* tracks);
 
   FrontendParams params_;
@@ -165,7 +184,7 @@ class ImageFrontend {
   void reacquireWarped(const GreyPyramid& grey, const std::optional<SE3>& camera_motion, FlowResult* flow,
                        FrontendFrameStats* stats) const;
 
-  FrameMeasurement processUncommitted(const ImageFrame& frame);
+  FrameMeasurement processUncommitted(const ImageFrame& frame, const PreparedFrame* prepared);
 
   // Everything process() changes, to restore it.
   struct ObjectMotionMemory {

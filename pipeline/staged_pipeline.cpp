@@ -29,10 +29,22 @@ StagedPipeline::~StagedPipeline() {
   if (backend_thread_.joinable()) backend_thread_.join();
 }
 
-bool StagedPipeline::push(ImageFrame frame) { return frames_.push(std::move(frame)); }
+StagedPipeline::PreparedInput StagedPipeline::prepare(ImageFrame frame) const {
+  PreparedInput input{std::move(frame), std::nullopt};
+  try {
+    input.prepared = ImageFrontend::Prepare(config_.frontend, input.frame);
+  } catch (const std::exception&) {
+    // The front-end meets the same fault when it processes the frame, and reports it as for any frame.
+  }
+  return input;
+}
+
+bool StagedPipeline::push(ImageFrame frame) { return frames_.push(prepare(std::move(frame))); }
 
 bool StagedPipeline::pushNewest(ImageFrame frame) {
-  return frames_.pushDropOldest(std::move(frame), [](const ImageFrame& dropped, ImageFrame& next) {
+  return frames_.pushDropOldest(prepare(std::move(frame)), [](const PreparedInput& dropped_input, PreparedInput& next_input) {
+    const ImageFrame& dropped = dropped_input.frame;
+    ImageFrame& next = next_input.frame;
     // A dropped first frame (no increment into it) makes the next one the first.
     if (!dropped.odometry)
       next.odometry.reset();
@@ -64,9 +76,10 @@ void StagedPipeline::runFrontend() {
   // The odometry of frames the front-end rejected, carried into the next accepted frame's increment so
   // that the chain of poses stays whole.
   std::optional<OdometryMeasurement> carried;
-  while (std::optional<ImageFrame> frame = frames_.pop()) {
+  while (std::optional<PreparedInput> input = frames_.pop()) {
     if (abort_) return;
     if (skip_) continue;
+    ImageFrame* frame = &input->frame;
     try {
       if (carried && frame->odometry) frame->odometry = Compose(*carried, *frame->odometry);
       frame->frame_index = accepted;  // the back-end numbers frames 0, 1, 2, ... as they reach it
@@ -75,7 +88,7 @@ void StagedPipeline::runFrontend() {
       FrameMeasurement m;
       try {
         if (!frontend_) frontend_ = MakeFrontend(config_.frontend, &camera_, *frame);
-        m = frontend_->process(*frame);
+        m = frontend_->process(*frame, input->prepared ? &*input->prepared : nullptr);
       } catch (const std::invalid_argument& e) {
         if (!callbacks_.on_rejected) throw;
         if (frame->odometry) carried = frame->odometry;  // already composed with what was carried before

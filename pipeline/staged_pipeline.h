@@ -16,6 +16,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -57,6 +58,8 @@ class StagedPipeline {
   StagedPipeline(const StagedPipeline&) = delete;
   StagedPipeline& operator=(const StagedPipeline&) = delete;
 
+  // Both push calls first prepare the frame on the caller's thread (ImageFrontend::Prepare: grey image,
+  // pyramid, labels, mask edges), so that the front-end's thread only tracks.
   // Waits while the front-end's queue is full; false once the pipeline stopped (an error, or finish()).
   bool push(ImageFrame frame);
   // Never waits: when the front-end's queue is full, its oldest frame is dropped (counted in
@@ -79,16 +82,21 @@ class StagedPipeline {
   void runBackend();
   void fail(std::exception_ptr error);
 
+  struct PreparedInput {  // a packet into the front-end: the frame, and what the pushing thread took from it
+    ImageFrame frame;
+    std::optional<PreparedFrame> prepared;  // none: the frame could not be prepared (the front-end says why)
+  };
   struct TimedMeasurement {  // a packet between the stages
     FrameMeasurement measurement;
     FrameTiming timing;
   };
+  PreparedInput prepare(ImageFrame frame) const;
 
   RunConfig config_;
   PinholeCamera camera_;
   double frame_rate_hz_;
   StagedPipelineCallbacks callbacks_;
-  BoundedQueue<ImageFrame> frames_;
+  BoundedQueue<PreparedInput> frames_;
   BoundedQueue<TimedMeasurement> measurements_;
   std::unique_ptr<ImageFrontend> frontend_;
   OnlineBackend backend_;

@@ -287,6 +287,27 @@ TEST(ImageFrontend, UndoLastTakesAFrameBackAsIfItNeverCame) {
   }
 }
 
+// A frame prepared elsewhere (a pipeline's other thread) gives the measurement the front-end gives from the
+// frame alone; a frame that cannot be prepared is refused by name.
+TEST(ImageFrontend, AFramePreparedElsewhereGivesTheSameMeasurement) {
+  ImageFrontend alone(Params(), Camera()), given(Params(), Camera());
+  for (int k = 0; k < 6; ++k) {
+    const ImageFrame frame = MakeFrame(k);
+    const PreparedFrame prepared = ImageFrontend::Prepare(Params(), frame);
+    EXPECT_EQ(prepared.label_areas.size(), 1u) << k;
+    EXPECT_GT(cv::countNonZero(prepared.background_allowed), 0) << k;
+    EXPECT_GT(cv::countNonZero(prepared.near_edge), 0) << k;
+    const FrameMeasurement a = alone.process(frame);
+    const FrameMeasurement b = given.process(frame, &prepared);
+    ExpectSameMeasurement(a, b);
+    EXPECT_EQ(alone.lastStats().static_tracked, given.lastStats().static_tracked) << k;
+    EXPECT_EQ(alone.lastStats().mask_labels, given.lastStats().mask_labels) << k;
+  }
+  ImageFrame bad = MakeFrame(6);
+  bad.depth_m = cv::Mat(10, 10, CV_32FC1, cv::Scalar(1.0f));
+  EXPECT_THROW(ImageFrontend::Prepare(Params(), bad), std::invalid_argument);
+}
+
 TEST(ImageFrontend, IgnoresMasksBelowTheAreaThresholdAndObjectsBeyondRange) {
   FrontendParams params = Params();
   params.min_mask_area_pct = 20.0;  // the box covers 6300 / 64000 px, under 20 %
