@@ -328,7 +328,7 @@ ImageRunResult RunImageStreamed(const ImageDataset& dataset, const RunConfig& co
     read_s += 1e-9 * static_cast<double>(frame.timing.assembled_ns - received_ns);
     std::optional<KeptFrame> keep;
     if (options.keep_frames.count(k)) keep = KeptFrame{frame.image.clone(), frame.instance_ids.clone()};
-    if (!pipeline.push(std::move(frame))) break;  // a stage failed: finish() throws its error
+    if (!pipeline.pushPrepared(std::move(frame))) break;  // a stage failed: finish() throws its error
     if (keep) kept_frames[k] = std::move(*keep);
     if (options.after_frame) options.after_frame(k + 1);
   }

@@ -39,10 +39,13 @@ StagedPipeline::PreparedInput StagedPipeline::prepare(ImageFrame frame) const {
   return input;
 }
 
-bool StagedPipeline::push(ImageFrame frame) { return frames_.push(prepare(std::move(frame))); }
+bool StagedPipeline::push(ImageFrame frame) { return frames_.push(PreparedInput{std::move(frame), std::nullopt}); }
+
+bool StagedPipeline::pushPrepared(ImageFrame frame) { return frames_.push(prepare(std::move(frame))); }
 
 bool StagedPipeline::pushNewest(ImageFrame frame) {
-  return frames_.pushDropOldest(prepare(std::move(frame)), [](const PreparedInput& dropped_input, PreparedInput& next_input) {
+  PreparedInput input{std::move(frame), std::nullopt};
+  return frames_.pushDropOldest(std::move(input), [](const PreparedInput& dropped_input, PreparedInput& next_input) {
     const ImageFrame& dropped = dropped_input.frame;
     ImageFrame& next = next_input.frame;
     // A dropped first frame (no increment into it) makes the next one the first.
