@@ -64,9 +64,9 @@ struct FrontendFrameStats {
 };
 
 // What the front-end takes from a frame alone, before any tracking: its grey image and pyramid, its mask
-// labels (CV_32SC1) with the areas of those large enough to be objects and every label's box, and the
-// pixels near a mask edge. ImageFrontend::Prepare makes it on any thread, so that a pipeline can prepare
-// frame k+1 while the front-end tracks frame k.
+// labels (CV_32SC1) with the areas of those large enough to be objects and every label's box, the pixels
+// near a mask edge and where a new static point may go. ImageFrontend::Prepare makes it on any thread, so
+// that a pipeline can prepare frame k+1 while the front-end tracks frame k.
 struct PreparedFrame {
   GreyPyramid grey;
   cv::Mat labels;
@@ -111,8 +111,9 @@ class ImageFrontend {
   // added, so a car leaving the view, its front first, gets points on the side that stays. `background`:
   // PreparedFrame::background_allowed.
   void replenish(const cv::Mat& gray, const cv::Mat& depth, const cv::Mat& labels, const cv::Mat& near_edge,
-                 const cv::Mat& background, const std::map<int, int>& object_of_label, const std::map<int, cv::Rect>& label_boxes,
-                 const std::optional<SE3>& T_prev_curr, std::vector<Track>* tracks);
+                 const cv::Mat& background, const std::map<int, int>& object_of_label,
+                 const std::map<int, cv::Rect>& label_boxes, const std::optional<SE3>& T_prev_curr,
+                 std::vector<Track>* tracks);
 
   FrontendParams params_;
   PinholeCamera camera_;
