@@ -634,7 +634,6 @@ WindowSolveSummary SolveWindow(const BackendParams& params, const WindowSolveOpt
     return summary;
   }
   double lambda = 1e-4;  // as Ceres' default initial trust region (radius 1e4)
-  double previous_decrease = 0.0;  // relative, of the last accepted step
   Eigen::VectorXd dx;
   std::vector<Vec3> dp;
   for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
@@ -652,14 +651,15 @@ WindowSolveSummary SolveWindow(const BackendParams& params, const WindowSolveOpt
       continue;
     }
     const double decrease = (cost - new_cost) / std::max(cost, 1e-300);
-    summary.relative_decreases.push_back(decrease);
+    std::vector<double>& decreases = summary.relative_decreases;
+    decreases.push_back(decrease);
     cost = new_cost;
     lambda = std::max(lambda / 3.0, 1e-10);
     if (decrease < options.function_tolerance) break;
     // The next decrease, predicted from the last two, would be below the tolerance too: that step would not
     // be worth its linearisation (on the demo scene, 75 of the 244 iterations of its 60 solves).
-    if (previous_decrease > 0.0 && decrease * (decrease / previous_decrease) < options.function_tolerance) break;
-    previous_decrease = decrease;
+    if (decreases.size() >= 2 && decrease * (decrease / decreases[decreases.size() - 2]) < options.function_tolerance)
+      break;
   }
   summary.final_cost = cost;
   // The covariances read the last factorisation. One damped far more than a converged step's (the loop
