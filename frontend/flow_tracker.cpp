@@ -95,8 +95,6 @@ GreyPyramid BuildGreyPyramid(const FlowParams& params, const cv::Mat& gray) {
   return out;
 }
 
-GreyPyramid FlowTracker::pyramid(const cv::Mat& gray) const { return BuildGreyPyramid(params_, gray); }
-
 FlowResult FlowTracker::LucasKanadeBothWays(const GreyPyramid& prev, const GreyPyramid& curr,
                                              const std::vector<cv::Point2f>& prev_points,
                                              const std::vector<cv::Point2f>& predicted, int levels) const {

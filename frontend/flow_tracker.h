@@ -31,7 +31,7 @@ struct FlowParams {
 };
 
 // A grey image and, for Lucas-Kanade, its pyramid (levels and their derivatives, bordered as
-// calcOpticalFlowPyrLK wants them), built once per frame by FlowTracker::pyramid() and shared by every
+// calcOpticalFlowPyrLK wants them), built once per frame by BuildGreyPyramid() and shared by every
 // search from or to that frame: each Lucas-Kanade call on bare images builds both images' pyramids and
 // the first one's derivatives again (a front-end frame made six such calls).
 struct GreyPyramid {
@@ -57,8 +57,6 @@ class FlowTracker {
   FlowTracker(const FlowTracker&) = delete;
   FlowTracker& operator=(const FlowTracker&) = delete;
 
-  // `gray` (CV_8UC1) with the pyramid this tracker's Lucas-Kanade searches use (none for other methods).
-  GreyPyramid pyramid(const cv::Mat& gray) const;
 
   // prev_gray, curr_gray: CV_8UC1 of one size. precomputed_flow (CV_32FC2, prev -> curr) is used only by
   // the precomputed method, which throws std::invalid_argument without it. `predicted` (one per point, or
@@ -66,7 +64,7 @@ class FlowTracker {
   // texture the search from the old position can lock onto the wrong period.
   FlowResult track(const cv::Mat& prev_gray, const cv::Mat& curr_gray, const std::vector<cv::Point2f>& prev_points,
                    const cv::Mat& precomputed_flow = cv::Mat(), const std::vector<cv::Point2f>& predicted = {});
-  // The same between images whose pyramids were built by this tracker's pyramid().
+  // The same between images whose pyramids BuildGreyPyramid() built with this tracker's parameters.
   FlowResult track(const GreyPyramid& prev, const GreyPyramid& curr, const std::vector<cv::Point2f>& prev_points,
                    const cv::Mat& precomputed_flow = cv::Mat(), const std::vector<cv::Point2f>& predicted = {});
 

@@ -138,7 +138,7 @@ TEST(FlowTracker, NearAPredictionItKeepsAPatchLeavingTheViewThatTheFullPyramidLo
   FlowParams params;  // 15 px window, 3 levels
   FlowTracker tracker(params);
   const FlowResult full = tracker.track(prev, curr, points, cv::Mat(), predicted);
-  const GreyPyramid prev_pyramid = tracker.pyramid(prev), curr_pyramid = tracker.pyramid(curr);
+  const GreyPyramid prev_pyramid = BuildGreyPyramid(params, prev), curr_pyramid = BuildGreyPyramid(params, curr);
   const FlowResult near = tracker.trackNearPrediction(prev_pyramid, curr_pyramid, points, predicted);
   int full_good = 0, near_good = 0;
   for (size_t i = 0; i < points.size(); ++i) {
@@ -159,8 +159,8 @@ TEST(FlowTracker, NearAPredictionItKeepsAPatchLeavingTheViewThatTheFullPyramidLo
   FlowParams dis;
   dis.method = FlowMethod::kDis;
   FlowTracker dis_tracker(dis);
-  EXPECT_TRUE(dis_tracker.pyramid(prev).levels.empty());  // only Lucas-Kanade reads a pyramid
-  EXPECT_THROW(dis_tracker.trackNearPrediction(dis_tracker.pyramid(prev), dis_tracker.pyramid(curr), points, predicted),
+  EXPECT_TRUE(BuildGreyPyramid(dis, prev).levels.empty());  // only Lucas-Kanade reads a pyramid
+  EXPECT_THROW(dis_tracker.trackNearPrediction(BuildGreyPyramid(dis, prev), BuildGreyPyramid(dis, curr), points, predicted),
                std::invalid_argument);
 }
 
@@ -174,7 +174,8 @@ TEST(FlowTracker, ASharedPyramidTracksExactlyAsTheBareImages) {
   std::vector<cv::Point2f> predicted;
   for (const cv::Point2f& p : points) predicted.push_back(p + cv::Point2f(5.0f, -1.0f));
   FlowTracker tracker{FlowParams{}};
-  const GreyPyramid prev_pyramid = tracker.pyramid(prev), curr_pyramid = tracker.pyramid(curr);
+  const GreyPyramid prev_pyramid = BuildGreyPyramid(FlowParams{}, prev);
+  const GreyPyramid curr_pyramid = BuildGreyPyramid(FlowParams{}, curr);
   ASSERT_EQ(prev_pyramid.levels.size(), 2u * (FlowParams{}.lk_pyramid_levels + 1));  // levels and derivatives
   const GreyPyramid bare_prev{prev, {}}, bare_curr{curr, {}};
   const auto expect_same = [&](const FlowResult& a, const FlowResult& b, const char* what) {
