@@ -321,6 +321,8 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame, cons
   std::optional<SE3> T_prev_curr;
   bool odometry_rejected = false;
   if (frame.odometry) T_prev_curr = frame.odometry->T_prev_curr;
+  // Frames were dropped since the previous one (serve when it falls behind): the flow spans several frames.
+  const bool after_gap = prev_frame_index_ && static_cast<double>(frame.t_ns - prev_t_ns_) > 1.5e9 * params_.frame_interval_s;
   if (const auto pnp = EstimateCameraMotionPnp(static_prev, static_uv, camera_, params_.pnp, T_prev_curr)) {
     stats.pnp_inliers = static_cast<int>(pnp->inliers.size());
     stats.camera_from_pnp = true;
@@ -332,7 +334,6 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame, cons
     // After dropped frames (serve when it falls behind) the flow spans several frames' motion, where a
     // textured scene's look-alikes can give a well-supported but wrong PnP: the odometry composed over the
     // gap is kept then, with the static points that agree with it.
-    const bool after_gap = prev_frame_index_ && static_cast<double>(frame.t_ns - prev_t_ns_) > 1.5e9 * params_.frame_interval_s;
     if (odometry_rejected && after_gap) {
       odometry_rejected = false;
       T_prev_curr = frame.odometry->T_prev_curr;
@@ -343,6 +344,15 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame, cons
       }
     }
     stats.odometry_rejected = odometry_rejected;
+  } else if (frame.odometry && after_gap) {
+    // No visual consensus across a gap, where the flow's matches are mostly look-alikes: the odometry is
+    // the motion, and no static track goes on to the back-end, where unverified ones pull the camera off
+    // it (28 held a rendered city's camera 10 m behind its odometry after 18 dropped frames). Checking
+    // them against the odometry is not enough: a look-alike on another surface can sit at the right pixel
+    // with the wrong depth (one such point held the camera 1.7 m off). Without a gap they go on: the flow
+    // of one frame is right, and PnP fails there for other reasons (rendered 0000 stereo, one frame of 154:
+    // dropping its 273 tracks doubled the ATE).
+    for (size_t j : static_index) keep[j] = 0;
   }
 
   stats.phase_ms.pnp_ms = phase.lap();
