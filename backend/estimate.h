@@ -20,6 +20,9 @@ struct ObjectMotionEstimate {
   Vec3 centroid_prev_world = Vec3::Zero();
   Vec3 velocity_world_per_frame = Vec3::Zero();  // metres per frame
   double speed_mps = 0.0;
+  // The time the motion spans, from frame-1's stamp to frame's: more than a frame period after dropped
+  // frames; 0 when the frames carry no stamps (the nominal period then).
+  double step_s = 0.0;
   // Marginal covariance of H from the smoother's information, over the tangent [translation;
   // rotation] of H expressed about the object's anchor (its points' centroid when the motion was
   // created), the rotation perturbed on the right; zero when unknown (batch, or reported standing).
@@ -33,7 +36,10 @@ struct ObjectMotionEstimate {
 
   // The tracked points' centroid at `frame`: moved rigidly by H from frame - 1.
   Vec3 centroidWorld() const { return H_world * centroid_prev_world; }
-  Vec3 velocityMps(double frame_rate_hz) const { return velocity_world_per_frame * frame_rate_hz; }
+  // Per second of the motion's own step; `frame_rate_hz` when the step is unknown.
+  Vec3 velocityMps(double frame_rate_hz) const {
+    return step_s > 0.0 ? Vec3(velocity_world_per_frame / step_s) : Vec3(velocity_world_per_frame * frame_rate_hz);
+  }
 };
 
 struct PointEstimate {

@@ -175,6 +175,9 @@ struct ObjectTransition {
   // Set once the variables at k-1 leave the smoother's window (their final centroid).
   std::optional<Vec3> centroid_prev_world;
   ReportedMotion reported = ReportedMotion::kMoving;  // ObjectObservation::reported
+  // The time from frame k-1 to k by the frames' stamps; 0 when they carry none (the nominal frame period
+  // then). More than one period when frames were dropped in between (serve when it falls behind).
+  double step_s = 0.0;
   // What the measurement at k says of where the object is (carried to the results, not estimated): the
   // centroid of its measured points in camera k, and its box in image k when the source gives one.
   Vec3 centroid_camera = Vec3::Zero();

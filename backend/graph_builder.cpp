@@ -14,6 +14,10 @@ void DescribeFromMeasurement(const ObjectObservation& obs, ObjectTransition* tra
   if (!obs.points.empty()) transition->centroid_camera = sum / static_cast<double>(obs.points.size());
   transition->image_box = obs.image_box;
 }
+
+// Whether two motions span the same time (within 10 %: a camera's stamps jitter by a few percent), so that
+// a motion model may tie them. A step of 0 is unknown (frames without stamps): taken as the same.
+bool SameStep(double a_s, double b_s) { return a_s <= 0.0 || b_s <= 0.0 || std::abs(a_s - b_s) <= 0.1 * std::max(a_s, b_s); }
 }  // namespace
 
 GraphBuilder::GraphBuilder(const BackendParams& params, const BuilderOptions& options, FactorGraph* graph)
@@ -66,6 +70,10 @@ void GraphBuilder::addFrame(const FrameMeasurement& frame, const SE3* T_world_ca
     else if (frame.odometry)
       T_world_camera = T_world_camera * frame.odometry->T_prev_curr;
   }
+  // The time since the previous frame, by the stamps; 0 (unknown) when they do not increase.
+  const double step_s =
+      k > 0 && last_t_ns_ && frame.t_ns > *last_t_ns_ ? 1e-9 * static_cast<double>(frame.t_ns - *last_t_ns_) : 0.0;
+  last_t_ns_ = frame.t_ns;
   graph_->camera_poses.emplace_back();
   PoseToBlock(T_world_camera, graph_->camera_poses.back().data());
   graph_->frames.emplace_back();
@@ -84,7 +92,7 @@ void GraphBuilder::addFrame(const FrameMeasurement& frame, const SE3* T_world_ca
     }
   }
   if (options_.use_objects)
-    for (const auto& obs : frame.objects) addObject(obs, k, T_world_camera);
+    for (const auto& obs : frame.objects) addObject(obs, k, step_s, T_world_camera);
   forgetRetired(k);
 }
 
@@ -103,7 +111,7 @@ void GraphBuilder::forgetRetired(int frame) {
   }
 }
 
-void GraphBuilder::addObject(const ObjectObservation& obs, int frame, const SE3& T_world_camera) {
+void GraphBuilder::addObject(const ObjectObservation& obs, int frame, double step_s, const SE3& T_world_camera) {
   ObjectTrackState& state = objects_[obs.object_id];
   const bool consecutive = state.last_frame == frame - 1;
   std::vector<int> prev_vars(obs.points.size(), -1), curr_vars(obs.points.size(), -1);
@@ -119,6 +127,7 @@ void GraphBuilder::addObject(const ObjectObservation& obs, int frame, const SE3&
     transition.object_id = obs.object_id;
     transition.frame = frame;
     transition.is_dynamic = false;
+    transition.step_s = step_s;
     DescribeFromMeasurement(obs, &transition);
     for (size_t i = 0; i < obs.points.size(); ++i) {
       if (prev_vars[i] >= 0) {
@@ -136,7 +145,7 @@ void GraphBuilder::addObject(const ObjectObservation& obs, int frame, const SE3&
       curr_vars[i] = newPointVariable(T_world_camera * obs.points[i].p_camera, obs.points[i].track_id, obs.object_id,
                                       frame, prev_vars[i]);
     if (consecutive)
-      addDynamicTransition(obs, frame, state, prev_vars, curr_vars);
+      addDynamicTransition(obs, frame, step_s, state, prev_vars, curr_vars);
     else
       state.last_motion_var = -1;
   }
@@ -154,11 +163,12 @@ void GraphBuilder::addObject(const ObjectObservation& obs, int frame, const SE3&
   state.last_frame = frame;
 }
 
-void GraphBuilder::addDynamicTransition(const ObjectObservation& obs, int frame, ObjectTrackState& state,
+void GraphBuilder::addDynamicTransition(const ObjectObservation& obs, int frame, double step_s, ObjectTrackState& state,
                                         const std::vector<int>& prev_vars, const std::vector<int>& curr_vars) {
   ObjectTransition transition;
   transition.object_id = obs.object_id;
   transition.frame = frame;
+  transition.step_s = step_s;
   transition.reported = obs.reported;
   DescribeFromMeasurement(obs, &transition);
   std::vector<Vec3> src, dst;
@@ -179,7 +189,9 @@ void GraphBuilder::addDynamicTransition(const ObjectObservation& obs, int frame,
 
   FrameFactors& factors = graph_->frame(frame);
   const MotionMode mode = params_.modeFor(obs.object_id);
-  int motion_var = mode == MotionMode::kConstant ? state.constant_motion_var : -1;
+  // A motion model ties motions of equal time steps only: after dropped frames a motion spans several
+  // periods, and held to the one before it would pull the cameras through the object's points.
+  int motion_var = mode == MotionMode::kConstant && SameStep(state.constant_motion_step_s, step_s) ? state.constant_motion_var : -1;
   if (motion_var >= 0 && !graph_->motions.count(motion_var)) motion_var = -1;  // retired by the smoother
   if (motion_var < 0) {
     // Anchor: the centroid of the RANSAC inliers at k-1, a point on the object.
@@ -194,10 +206,10 @@ void GraphBuilder::addDynamicTransition(const ObjectObservation& obs, int frame,
     var.first_frame = frame;
     motion_var = graph_->next_motion_id++;
     graph_->motions.emplace(motion_var, var);
-    if (mode == MotionMode::kConstant) state.constant_motion_var = motion_var;
+    if (mode == MotionMode::kConstant) state.constant_motion_var = motion_var, state.constant_motion_step_s = step_s;
   }
   graph_->motions.at(motion_var).last_frame = frame;
-  if (mode == MotionMode::kSmoothed && state.last_motion_var >= 0)
+  if (mode == MotionMode::kSmoothed && state.last_motion_var >= 0 && SameStep(state.last_motion_step_s, step_s))
     factors.smoothness.push_back({state.last_motion_var, motion_var, {}, Vec3::Zero()});
 
   for (size_t j = 0; j < pair_index.size(); ++j) {
@@ -209,6 +221,7 @@ void GraphBuilder::addDynamicTransition(const ObjectObservation& obs, int frame,
   transition.motion_var = motion_var;
   graph_->transitions.push_back(std::move(transition));
   state.last_motion_var = motion_var;
+  state.last_motion_step_s = step_s;
 }
 
 std::optional<RansacResult> GraphBuilder::InitialMotion(const ObjectObservation& obs, int frame,

@@ -67,9 +67,12 @@ double SpeedSigmaMps(const MotionVariable& motion, const Vec3& centroid_prev_wor
 }
 
 ObjectMotionEstimate MotionEstimateOf(const FactorGraph& graph, const ObjectTransition& tr, double frame_rate_hz) {
+  // Speeds per second of the transition's own step: after dropped frames its motion spans several periods.
+  const double steps_per_s = tr.step_s > 0.0 ? 1.0 / tr.step_s : frame_rate_hz;
   ObjectMotionEstimate m;
   m.object_id = tr.object_id;
   m.frame = tr.frame;
+  m.step_s = tr.step_s;
   // Reported as estimated only when the classifier calls it moving; a jittering parked car is estimated
   // with its own motion (so that it does not pull the camera) but reported standing.
   m.is_dynamic = tr.is_dynamic && tr.reported == ReportedMotion::kMoving;
@@ -79,12 +82,12 @@ ObjectMotionEstimate MotionEstimateOf(const FactorGraph& graph, const ObjectTran
   const std::optional<Vec3> centroid = tr.centroid_prev_world ? tr.centroid_prev_world : Centroid(graph, tr.prev_point_vars);
   m.centroid_prev_world = centroid.value_or(Vec3::Zero());
   m.velocity_world_per_frame = m.is_dynamic ? ObjectVelocityPerFrame(m.H_world, m.centroid_prev_world) : Vec3::Zero();
-  m.speed_mps = SpeedMps(m.velocity_world_per_frame, frame_rate_hz);
+  m.speed_mps = SpeedMps(m.velocity_world_per_frame, steps_per_s);
   if (m.is_dynamic) {
     const MotionVariable& motion = graph.motions.at(tr.motion_var);
     m.covariance = motion.covariance;
     m.anchor_world = motion.anchor_world;
-    m.speed_sigma_mps = SpeedSigmaMps(motion, m.centroid_prev_world, m.velocity_world_per_frame, frame_rate_hz);
+    m.speed_sigma_mps = SpeedSigmaMps(motion, m.centroid_prev_world, m.velocity_world_per_frame, steps_per_s);
   }
   return m;
 }

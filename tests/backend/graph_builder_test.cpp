@@ -7,6 +7,7 @@
 #include <string>
 
 #include "backend/factors/pose_block.h"
+#include "backend/marginalisation.h"
 
 namespace dslam {
 namespace {
@@ -193,6 +194,67 @@ TEST(GraphBuilder, AJitteringStaticObjectsPointsWeighAsOneLandmarkOfItsJitter) {
     } catch (const std::invalid_argument& e) {
       EXPECT_NE(std::string(e.what()).find("object 5 jitter"), std::string::npos) << e.what();
     }
+  }
+}
+
+// After dropped frames (serve when it falls behind) a transition spans several frame periods: a motion model
+// must not tie its motion to one over a single period, and its speed is per second of its own step. A car at
+// 10 m/s seen at 0, 0.1, 0.2, 0.6, 0.7 and 0.8 s by a still camera.
+std::vector<FrameMeasurement> CarWithAGap(bool stamped) {
+  const double t_s[] = {0.0, 0.1, 0.2, 0.6, 0.7, 0.8};
+  std::vector<FrameMeasurement> frames;
+  for (int k = 0; k < 6; ++k) {
+    FrameMeasurement f;
+    f.frame_index = k;
+    f.t_ns = stamped ? static_cast<int64_t>(std::llround(t_s[k] * 1e9)) : 0;
+    if (k > 0) f.odometry = OdometryMeasurement{SE3::Identity(), Vec6::Constant(0.01)};
+    ObjectObservation car;
+    car.object_id = 3;
+    for (int i = 0; i < 12; ++i)
+      car.points.push_back({100 + i, Vec3(1.0 + 0.3 * (i % 4) + 10.0 * t_s[k], 0.2 * (i / 4), 10.0 + 0.1 * i)});
+    f.objects = {car};
+    frames.push_back(f);
+  }
+  return frames;
+}
+
+TEST(GraphBuilder, MotionModelsTieOnlyMotionsOfEqualStepsAndSpeedsAreOverTheStep) {
+  BackendParams params;
+  params.default_mode = MotionMode::kSmoothed;
+  FactorGraph graph;
+  GraphBuilder builder(params, BuilderOptions{}, &graph);
+  for (const FrameMeasurement& f : CarWithAGap(true)) builder.addFrame(f);
+  // 0.1 s steps into frames 1, 2, 4, 5; 0.4 s into frame 3: no smoothness factor into or out of it.
+  const size_t expected_smoothness[] = {0, 0, 1, 0, 0, 1};
+  for (int k = 0; k < 6; ++k) EXPECT_EQ(graph.frame(k).smoothness.size(), expected_smoothness[k]) << k;
+  int motions = 0;
+  for (const ObjectTransition& tr : graph.transitions) {
+    if (tr.motion_var < 0) continue;  // the first sighting: no motion
+    ++motions;
+    EXPECT_NEAR(tr.step_s, tr.frame == 3 ? 0.4 : 0.1, 1e-9) << tr.frame;
+    const ObjectMotionEstimate m = MotionEstimateOf(graph, tr, 10.0);  // 10 Hz nominal
+    EXPECT_NEAR(m.step_s, tr.step_s, 1e-12);
+    EXPECT_NEAR(m.speed_mps, 10.0, 1e-6) << tr.frame;  // not 40 over the gap
+    EXPECT_TRUE(m.velocityMps(10.0).isApprox(Vec3(10.0, 0.0, 0.0), 1e-6)) << tr.frame;
+  }
+  EXPECT_EQ(motions, 5);
+
+  // Constant mode: one motion per run of equal steps (frames 1-2, 3, 4-5).
+  params.default_mode = MotionMode::kConstant;
+  FactorGraph constant;
+  GraphBuilder constant_builder(params, BuilderOptions{}, &constant);
+  for (const FrameMeasurement& f : CarWithAGap(true)) constant_builder.addFrame(f);
+  EXPECT_EQ(constant.motions.size(), 3u);
+
+  // Frames without stamps: every step is the nominal one, and the model ties them all, as before.
+  params.default_mode = MotionMode::kSmoothed;
+  FactorGraph unstamped;
+  GraphBuilder unstamped_builder(params, BuilderOptions{}, &unstamped);
+  for (const FrameMeasurement& f : CarWithAGap(false)) unstamped_builder.addFrame(f);
+  for (int k = 2; k < 6; ++k) EXPECT_EQ(unstamped.frame(k).smoothness.size(), 1u) << k;
+  for (const ObjectTransition& tr : unstamped.transitions) {
+    EXPECT_EQ(tr.step_s, 0.0);
+    if (tr.motion_var >= 0) EXPECT_NEAR(MotionEstimateOf(unstamped, tr, 10.0).speed_mps, tr.frame == 3 ? 40.0 : 10.0, 1e-6);
   }
 }
 
