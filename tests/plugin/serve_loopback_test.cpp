@@ -369,17 +369,17 @@ TEST(ServeLoopback, WhenItFallsBehindTheNewestFrameWinsAndTheDelayStaysBounded) 
     worst_m = std::max(worst_m, (estimated[k].translation() - reference[t_ns[k]]).norm());
   }
   // Against the distance the reference travels meanwhile: odometry lost with the dropped frames (about three
-  // in four here) would leave the camera short by most of it. What remains is the visual motion across gaps
-  // of up to 13 frames, where the flow cannot follow and look-alike textures can win: measured 1.1 m of 59 m
-  // in some runs, 2.3-6.2 m in others on the same machine (the frames dropped differ from run to run), which
-  // a bound of 3 % failed in about one run of three. Open with issue 35.
+  // in four here) would leave the camera short by most of it. What remains is the odometry's own drift over
+  // the gaps: 0.03-0.26 m of 59 m in 12 runs on a loaded machine. (Before the front-end stopped handing on
+  // unverified static tracks after a gap and the back-end stopped tying motions of unequal steps, a run in
+  // CI ended 9 m off, and a bound of 15 % failed; tests/pipeline/dropped_frames_test.cpp replays such runs.)
   double path_m = 0.0;
   for (auto it = reference.find(t_ns.front()); it != reference.end() && std::next(it) != reference.end() &&
                                                it->first < t_ns.back();
        ++it)
     path_m += (std::next(it)->second - it->second).norm();
   EXPECT_GT(path_m, 10.0);
-  EXPECT_LT(worst_m, 0.15 * path_m) << "path " << path_m << " m";
+  EXPECT_LT(worst_m, 0.03 * path_m) << "path " << path_m << " m";
 }
 
 TEST(ServeLoopback, SigkillLeavesEveryFrameThatLeftTheWindowOnDisk) {
