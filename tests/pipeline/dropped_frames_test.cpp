@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <iostream>
 #include <optional>
 #include <vector>
 
@@ -52,6 +53,7 @@ TEST(DroppedFrames, TheCameraStaysOnItsPathAcrossGapsOfUpToEighteenFrames) {
       const SE3 gt = T_gt0_inverse * T_world_camera_gt[kept[i]];
       worst_m = std::max(worst_m, (result.estimate.T_world_camera[i].translation() - gt.translation()).norm());
     }
+    std::cout << kept.size() << " frames kept of " << kept.back() + 1 << ": worst camera error " << worst_m << " m\n";
     EXPECT_LT(worst_m, 1.0) << "frames kept: " << kept.size() << ", the last " << kept.back();
   }
 }
