@@ -146,17 +146,24 @@ TEST_F(VehicleNetwork, OnePercentOfEthernetFramesLostStillEstimatesAtLeast95Perc
   ExpectSubscriberHasWhatServeEstimated(run);
 }
 
-TEST_F(VehicleNetwork, FivePercentLostKeepsServeRunningAndEveryFrameIsEstimatedOrCounted) {
+// At 5 % loss serve keeps running, estimates most frames, and every frame some of whose samples reached it is
+// estimated or counted. A frame can also vanish whole on the way, which serve cannot count: a keep-last writer
+// that overwrites a sample before its repair sends a GAP, which the reader takes as "not relevant", not as lost,
+// and a publisher may write before serve's readers have discovered it (discovery is not symmetric). Over 37 runs
+// on a 2-core machine, every frame was estimated or counted in 32; in five, 4 to 15 frames never reached serve
+// (45-56 estimated). So the bound below is half (the default profile gets 0-2 through at 1 %), and the identity
+// is asserted on the samples that arrived.
+TEST_F(VehicleNetwork, FivePercentLostKeepsServeRunningAndEveryFrameThatReachedItIsEstimatedOrCounted) {
   const NetworkRun run = RunThreeHosts("network_loss5", 5.0);
   ASSERT_EQ(run.publish_exit, 0) << run.logs;
   EXPECT_EQ(run.serve_exit, 0) << run.logs;  // it ran until told to stop, and wrote its results
   ASSERT_TRUE(run.serve.contains("frames")) << run.logs;
   const int estimated = run.serve.value("frames", 0);
-  EXPECT_GT(estimated, 0) << run.logs;
-  // A frame not estimated is in a counter: dropped incomplete, dropped for the backlog, or its samples lost.
-  const int counted = run.serve.value("dropped_incomplete", 0) + run.serve.value("dropped_queue_full", 0) +
-                      run.serve.value("samples_lost", 0);
-  EXPECT_GE(estimated + counted, kFrames) << run.logs;
+  EXPECT_GE(estimated, kFrames / 2) << run.logs;
+  // Each frame is four samples (colour, depth, mask, odometry); every sample that arrived belongs to a frame
+  // that was estimated, dropped incomplete (counted) or dropped for the backlog (counted).
+  const int accounted = estimated + run.serve.value("dropped_incomplete", 0) + run.serve.value("dropped_queue_full", 0);
+  EXPECT_GE(4 * accounted, run.serve.value("frames_received", 0)) << run.logs;
   ExpectSubscriberHasWhatServeEstimated(run);
 }
 
