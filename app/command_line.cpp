@@ -239,7 +239,7 @@ int RunCommandLine(int argc, char** argv) {
       ->check(kOutputDir)
       ->capture_default_str();
   serve_cmd->add_flag("--no-odometry", serve.no_odometry, "Do not wait for odometry with every frame");
-  serve_cmd->add_option("--rate", serve.frame_rate_hz, "Sensor frame rate (Hz), for speeds (0.001 to 1000)")
+  serve_cmd->add_option("--rate", serve.frame_rate_hz, "Sensor frame rate (Hz): a step over 1.5 periods is a gap (frames dropped); speeds use the stamps (0.001 to 1000)")
       ->check(CLI::Range(0.001, 1000.0))
       ->capture_default_str();
   serve_cmd->add_option("--timeout-ms", serve.timeout_ms,
