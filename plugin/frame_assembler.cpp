@@ -9,6 +9,7 @@ void AssemblerParams::validate() const {
   if (silence_timeout_ns <= 0) throw std::invalid_argument("assembler silence timeout must be positive");
   if (max_pending < 1 || max_pending > 64) throw std::invalid_argument("max pending frame sets must be in 1..64");
   if (max_pending_bytes < (size_t{1} << 20)) throw std::invalid_argument("max pending bytes must be at least 1 MiB");
+  if (nominal_period_ns < 0) throw std::invalid_argument("assembler nominal frame period must not be negative");
   if (!default_increment_sigma.allFinite() || (default_increment_sigma.array() <= 0.0).any())
     throw std::invalid_argument("assembler default odometry increment sigmas must be positive");
 }
@@ -17,6 +18,15 @@ FrameAssembler::FrameAssembler(const AssemblerParams& params, WallClockNs wall_c
     : params_(params), wall_clock_ns_(std::move(wall_clock_ns)) {
   params_.validate();
   if (!wall_clock_ns_) throw std::invalid_argument("assembler needs a wall clock");
+}
+
+void FrameAssembler::leaving(int64_t t_ns) {
+  if (last_left_ns_ && t_ns <= *last_left_ns_) return;
+  if (last_left_ns_ && params_.nominal_period_ns > 0) {
+    const int64_t periods = (t_ns - *last_left_ns_ + params_.nominal_period_ns / 2) / params_.nominal_period_ns;
+    if (periods > 1) counters_.frames_missing += static_cast<uint64_t>(periods - 1);
+  }
+  last_left_ns_ = t_ns;
 }
 
 void FrameAssembler::reject(const std::string& reason) {
@@ -38,8 +48,10 @@ FrameAssembler::Pending* FrameAssembler::slot(int64_t t_ns, const char* what, co
     if (static_cast<int>(pending_.size()) >= params_.max_pending) {
       if (t_ns < pending_.begin()->first) {  // older than everything waiting: it is the one to drop
         ++counters_.dropped_queue_full;
+        leaving(t_ns);
         return nullptr;
       }
+      leaving(pending_.begin()->first);
       pending_.erase(pending_.begin());
       ++counters_.dropped_queue_full;
     }
@@ -73,6 +85,7 @@ void FrameAssembler::boundPendingBytes() {
   // The oldest sets go first; the newest always stays (one set is what a frame needs).
   while (total > params_.max_pending_bytes && pending_.size() > 1) {
     total -= set_bytes(pending_.begin()->second);
+    leaving(pending_.begin()->first);
     pending_.erase(pending_.begin());
     ++counters_.dropped_queue_full;
   }
@@ -105,10 +118,12 @@ std::vector<ImageFrame> FrameAssembler::takeReady() {
       // The oldest set waits for its missing parts (topics arrive in any order) until it times out;
       // later sets wait behind it so that frames leave in stamp order.
       if (!silent && newest_ns_ - it->first < params_.timeout_ns) break;
+      leaving(it->first);
       pending_.erase(it);
       ++counters_.dropped_incomplete;
       continue;
     }
+    leaving(it->first);
     ImageFrame frame;
     frame.frame_index = next_frame_index_++;
     frame.t_ns = it->first;

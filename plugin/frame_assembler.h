@@ -7,7 +7,8 @@
 //  - when no part at all has arrived for `silence_timeout_ns` of wall time (the stream stopped, so no
 //    newer stamp will come), the incomplete sets still waiting are dropped too;
 //  - at most `max_pending` sets wait; a new stamp beyond that drops the oldest (counted);
-//  - a part whose stamp is not newer than the last released frame is rejected (stamps going backwards).
+//  - a part whose stamp is not newer than the last released frame is rejected (stamps going backwards);
+//  - with a nominal frame period, the frames between two frames seen of which no part arrived are counted.
 // Middleware-free: the DDS readers hand it decoded parts (plugin/image_message.h).
 
 #include <cstdint>
@@ -33,6 +34,9 @@ struct AssemblerParams {
   // And at most this many bytes of pixels waiting: beyond, the oldest set is dropped and counted (a
   // count alone let large images grow the backlog to gigabytes).
   size_t max_pending_bytes = size_t{256} << 20;
+  // The sensor's frame period: a step between two frames seen of n periods means n - 1 frames of which
+  // no part arrived (counted as missing). 0: not counted.
+  int64_t nominal_period_ns = 0;
   // Sigma of an odometry increment whose message gave no twist covariance ([m x3; rad x3]).
   Vec6 default_increment_sigma = Vec6::Constant(0.01);
   void validate() const;
@@ -45,6 +49,10 @@ struct AssemblerCounters {
   uint64_t dropped_queue_full = 0;
   uint64_t rejected_invalid = 0;
   uint64_t samples_lost = 0;  // not the assembler's: what serve's DDS readers reported lost (SAMPLE_LOST)
+  // Frames between two frames seen (assembled or dropped) of which no part arrived, by the nominal period:
+  // lost whole on the way, which DDS does not always report (a keep-last writer that overwrites a sample
+  // before its repair sends a GAP, which the reader takes as not relevant).
+  uint64_t frames_missing = 0;
   std::string last_rejection;
 };
 
@@ -105,12 +113,15 @@ class FrameAssembler {
   Pending* slot(int64_t t_ns, const char* what, const PartArrival& arrival);
   bool complete(const Pending& p) const;
   void boundPendingBytes();
+  // A set leaves (released or dropped; sets leave in stamp order): counts the frames missing before it.
+  void leaving(int64_t t_ns);
 
   AssemblerParams params_;
   WallClockNs wall_clock_ns_;
   int64_t last_arrival_wall_ns_ = 0;
   std::map<int64_t, Pending> pending_;
   std::optional<int64_t> last_released_ns_;
+  std::optional<int64_t> last_left_ns_;  // the stamp of the last set that left, released or dropped
   std::optional<StampedPose> last_released_pose_;
   int64_t last_released_pose_ns_ = 0;
   int64_t newest_ns_ = 0;

@@ -244,6 +244,7 @@ class Vehicle {
     info["frames_received"] = s.counters.parts_received;
     info["frames_assembled"] = s.counters.frames_assembled;
     info["dropped_incomplete"] = s.counters.dropped_incomplete;
+    info["frames_missing"] = s.counters.frames_missing;
     info["dropped_queue_full"] = s.counters.dropped_queue_full;
     info["rejected_invalid"] = s.counters.rejected_invalid;
     info["samples_lost"] = s.counters.samples_lost;
@@ -427,7 +428,7 @@ class Vehicle {
 
   // Drops, rejections and lost samples so far; the counters only grow, so their sum changes whenever one does.
   static uint64_t ProblemCount(const AssemblerCounters& c) {
-    return c.dropped_queue_full + c.dropped_incomplete + c.rejected_invalid + c.samples_lost;
+    return c.dropped_queue_full + c.dropped_incomplete + c.rejected_invalid + c.samples_lost + c.frames_missing;
   }
 
   static int64_t SystemClockNs() {

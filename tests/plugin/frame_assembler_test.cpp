@@ -156,6 +156,34 @@ TEST(FrameAssembler, DropsIncompleteSetsAfterTheTimeoutAndCountsThem) {
   EXPECT_EQ(a.counters().dropped_incomplete, 1u);
 }
 
+// Frames of which no part arrived (lost whole on the way: DDS does not always say so) are counted from the
+// stamps, by the nominal period; a frame dropped incomplete is counted as that, not as missing.
+TEST(FrameAssembler, CountsTheFramesOfWhichNoPartArrivedByTheNominalPeriod) {
+  AssemblerParams p = WithOdometry();
+  p.nominal_period_ns = 100;
+  p.timeout_ns = 250;
+  FakeClock clock;
+  FrameAssembler a(p, clock.fn());
+  AddAll(a, 1000, 0.0);
+  AddAll(a, 1100, 1.0);
+  AddAll(a, 1400, 4.0);  // 1200 and 1300 never came
+  a.addColour(1500, kImage);  // incomplete
+  AddAll(a, 1590, 6.0);       // 1600 a little early (stamps jitter)
+  AddAll(a, 1900, 9.0);       // 1700, 1800 missing; 1500 times out behind it
+  EXPECT_EQ(a.takeReady().size(), 5u);
+  EXPECT_EQ(a.counters().dropped_incomplete, 1u);
+  EXPECT_EQ(a.counters().frames_missing, 4u);
+  // Without a nominal period nothing is counted as missing.
+  p.nominal_period_ns = 0;
+  FrameAssembler b(p, clock.fn());
+  AddAll(b, 1000, 0.0);
+  AddAll(b, 1400, 4.0);
+  EXPECT_EQ(b.takeReady().size(), 2u);
+  EXPECT_EQ(b.counters().frames_missing, 0u);
+  p.nominal_period_ns = -1;
+  EXPECT_THROW(p.validate(), std::invalid_argument);
+}
+
 TEST(FrameAssembler, DropsTheLastIncompleteSetOnceTheStreamFallsSilent) {
   // No newer stamp follows the last frame of a stream: only wall time can time it out.
   AssemblerParams p = WithOdometry();

@@ -263,7 +263,9 @@ TEST(ServeLoopback, EstimatesEqualTheRecordedRunAndSigtermWritesTheResults) {
   EXPECT_NE(test::ReadFile(test::TempPath("serve.log")).find("100 frames, results written to"), std::string::npos);
   // The latency budget over the session, per stage, each over every frame estimated.
   std::ifstream metrics_file(out + "/default/metrics.json");
-  const nlohmann::json latency = nlohmann::json::parse(metrics_file)["run"]["latency_ms"];
+  const nlohmann::json session = nlohmann::json::parse(metrics_file)["run"];
+  EXPECT_EQ(session["frames_missing"].get<int>(), 0) << session.dump();  // every stamp of the 100 came
+  const nlohmann::json latency = session["latency_ms"];
   for (const char* stage : {"input", "decode", "frontend_wait", "frontend", "backend_wait", "backend", "publish", "total"}) {
     ASSERT_TRUE(latency.contains(stage)) << stage << ": " << latency.dump();
     EXPECT_EQ(latency[stage]["frames"].get<int>(), 100) << stage;
@@ -350,6 +352,7 @@ TEST(ServeLoopback, WhenItFallsBehindTheNewestFrameWinsAndTheDelayStaysBounded) 
   EXPECT_LT(processed, 100) << "serve kept up: the test proves nothing";
   EXPECT_GE(processed, 5);
   EXPECT_EQ(run["dropped_queue_full"].get<int>(), 100 - processed) << run.dump();  // every drop counted
+  EXPECT_EQ(run["frames_missing"].get<int>(), 0) << run.dump();  // dropped here, not lost on the way
   // A frame waits for at most the frame before it in each stage.
   const nlohmann::json& latency = run["latency_ms"];
   const double frontend_max = latency["frontend"]["max_ms"].get<double>();
