@@ -98,7 +98,6 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
       throw std::invalid_argument("--max-pending-mb must be in 16..8192");
     serve.assembler.max_pending_bytes = static_cast<size_t>(options.max_pending_mb) << 20;
     serve.frame_rate_hz = options.frame_rate_hz;
-    serve.assembler.nominal_period_ns = std::llround(1e9 / options.frame_rate_hz);
     serve.out_dir = options.out_dir;
     if (options.domain_id < 0 || options.domain_id > 232) throw std::invalid_argument("--domain must be in 0..232");
     for (const std::string& name : serve.vehicles)

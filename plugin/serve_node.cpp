@@ -4,6 +4,7 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <filesystem>
 #include <fstream>
@@ -620,6 +621,9 @@ struct ServeNode::Impl {
 ServeNode::ServeNode(const ServeOptions& options_in, const RunConfig& config) : impl_(std::make_unique<Impl>()) {
   config.validate();
   ServeOptions options = options_in;
+  // The assembler counts frames lost whole against the sensor's period (a bad rate is the pipeline's error).
+  if (std::isfinite(options.frame_rate_hz) && options.frame_rate_hz > 0.0)
+    options.assembler.nominal_period_ns = std::llround(1e9 / options.frame_rate_hz);
   if (config.masks.source == MaskSourceKind::kLidarClusters) {
     // Masks made from each frame's LiDAR scan: a frame needs a scan, not a mask.
     if (!options.T_camera_lidar)

@@ -23,9 +23,9 @@ struct ServeOptions {
   int domain_id = 0;
   std::string profiles_file = "config/dds_profiles.xml";
   std::vector<std::string> vehicles = {""};  // "" = no namespace (rt/camera/...)
-  AssemblerParams assembler;
+  AssemblerParams assembler;  // its nominal_period_ns is set from frame_rate_hz
   PinholeCamera camera;          // intrinsics; width/height 0 = from the first frame
-  double frame_rate_hz = 10.0;
+  double frame_rate_hz = 10.0;  // the sensor's: a step over 1.5 periods is a gap, n periods count n - 1 missing
   std::string out_dir = "results/serve";  // results per vehicle under out_dir/<vehicle or "default">
   // When serve falls behind: false, the newest frame wins (a frame waits at most for the one before it;
   // older waiting frames are dropped, counted, their odometry carried on), so that estimates never lag;
