@@ -131,6 +131,7 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
     auto last_status = start, last_loss_warning = start - std::chrono::hours(1);
     std::map<std::string, uint64_t> lost_reported;
     std::map<std::string, std::string> quiet_reported;  // vehicle -> the serve it yields to ("" = publishing)
+    std::map<std::string, int> readers_reported;        // vehicle -> subscribers matched, as last said
     while (!g_stop) {
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
       const auto now = std::chrono::steady_clock::now();
@@ -146,6 +147,14 @@ int RunServeCommand(const ServeCommandOptions& options, std::ostream& out, std::
         else
           out << "dslam serve: vehicle '" << name << "': the other serve is gone, this one publishes again" << std::endl;
         quiet_reported[name] = s.quiet_for;
+      }
+      // Subscribers matched, said as it changes: discovery is not symmetric, and a subscriber gets only the
+      // estimates written once serve's writer has matched it (a script can wait for this line).
+      for (const auto& [name, s] : statuses) {
+        if (s.estimate_readers == readers_reported[name]) continue;
+        readers_reported[name] = s.estimate_readers;
+        out << "dslam serve: vehicle '" << name << "': " << s.estimate_readers
+            << (s.estimate_readers == 1 ? " reader" : " readers") << " of camera estimates matched" << std::endl;
       }
       // Lost input samples are a network problem the user can fix: said at once, at most every 5 s.
       if (now - last_loss_warning > std::chrono::seconds(5)) {

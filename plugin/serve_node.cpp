@@ -203,6 +203,14 @@ class Vehicle {
       w->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(2, 0));
   }
 
+  // Readers matched by the camera estimates' writer. Only while the session exists (the writer is its).
+  int estimateReaders() const {
+    dds::PublicationMatchedStatus matched;
+    if (odometry_writer_->get_publication_matched_status(matched) != eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK)
+      return 0;
+    return matched.current_count;
+  }
+
   // This vehicle's ROS 2 node: its namespace, name, readers and writers.
   const RosGraphNode& graphNode() const { return graph_node_; }
 
@@ -654,7 +662,10 @@ ServeNode::~ServeNode() = default;
 
 std::map<std::string, VehicleStatus> ServeNode::status() const {
   std::map<std::string, VehicleStatus> out;
-  for (const auto& [name, v] : impl_->vehicles) out[name] = v->status();
+  for (const auto& [name, v] : impl_->vehicles) {
+    out[name] = v->status();
+    if (impl_->session) out[name].estimate_readers = v->estimateReaders();  // not after shutdown(): no writers
+  }
   return out;
 }
 

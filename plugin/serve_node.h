@@ -54,6 +54,7 @@ struct VehicleStatus {
   bool quiet = false;
   std::string quiet_for;  // the other participant's GUID prefix, while quiet
   uint64_t frames_not_published = 0;  // estimated while quiet
+  int estimate_readers = 0;  // readers matched by the camera estimates' writer (ServeNode::status() only)
 };
 
 class ServeNode {

@@ -73,6 +73,9 @@ TEST_F(HotStandby, WhenThePrimaryDiesTheStandbyTakesOverWithinTheLeaseAndThePrim
                        dir + "/listen.log");
   ASSERT_TRUE(test::WaitForLogLine(dir + "/listen.log", "2 writers of estimates matched", 60s))
       << test::ReadFile(dir + "/listen.log");
+  for (const char* log : {"/primary.log", "/standby.log"})  // and both have matched the display host (both ways)
+    ASSERT_TRUE(test::WaitForLogLine(dir + log, "1 reader of camera estimates matched", 60s))
+        << test::ReadFile(dir + log);
   test::Process publish(net.launcher(),
                         net.on("camera", DSLAM_BINARY,
                                {"publish", "--dataset", city, "--profiles", kStandbyProfiles, "--rate", "5",

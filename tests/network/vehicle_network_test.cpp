@@ -64,9 +64,12 @@ NetworkRun RunThreeHosts(const std::string& name, double loss_percent, const std
                               {"listen", "--profiles", profiles, "--out", dir + "/listen", "--idle-stop", "5",
                                "--max-run", "300", "--status-every", "0"}),
                        dir + "/listen.log");
-  // The estimates are not kept for late subscribers: the display host must see serve's writer first.
-  const bool matched =
-      test::WaitForLogLine(dir + "/listen.log", "1 writer of estimates matched", multicast ? 60s : 15s);
+  // The estimates are not kept for late subscribers: the display host and serve must have matched each other
+  // first, both ways (discovery is not symmetric: the display host can see serve's writer before that writer has
+  // seen the display host's reader, and the estimates written in between are not for it).
+  const auto discovery = multicast ? 60s : 15s;
+  const bool matched = test::WaitForLogLine(dir + "/listen.log", "1 writer of estimates matched", discovery) &&
+                       test::WaitForLogLine(dir + "/serve.log", "1 reader of camera estimates matched", discovery);
   run.discovered = matched;
   if (matched) {
     test::Process publish(net.launcher(),
