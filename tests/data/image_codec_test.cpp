@@ -90,6 +90,27 @@ TEST(ImageCodec, BrokenBytesGiveAnEmptyImageAndAReason) {
   EXPECT_NE(error.find("not a PNG"), std::string::npos) << error;
 }
 
+// The decoder leaves zlib's Adler-32 unchecked because libpng checks each chunk's CRC: a byte changed inside
+// the image data must still be refused by DecodePng itself (the datasets' FindPngProblem is not in its way).
+TEST(ImageCodec, AByteChangedInTheImageDataIsRefused) {
+  const std::vector<uint8_t> png = EncodePng(Random(CV_8UC3, 7));
+  size_t idat = 8;  // the first IDAT chunk's start
+  while (idat + 8 < png.size() && std::string(png.begin() + static_cast<std::ptrdiff_t>(idat + 4),
+                                              png.begin() + static_cast<std::ptrdiff_t>(idat + 8)) != "IDAT") {
+    const size_t length = (size_t{png[idat]} << 24) | (size_t{png[idat + 1]} << 16) | (size_t{png[idat + 2]} << 8) |
+                          size_t{png[idat + 3]};
+    idat += 12 + length;
+  }
+  ASSERT_LT(idat + 8, png.size());
+  for (const size_t offset : {size_t{2}, size_t{40}, size_t{200}}) {  // zlib header, early and later data
+    std::vector<uint8_t> damaged = png;
+    damaged[idat + 8 + offset] ^= 0x10;
+    std::string error;
+    EXPECT_TRUE(DecodePng(damaged, ImageDecode::kUnchanged, &error).empty()) << "byte " << offset;
+    EXPECT_NE(error.find("cannot be decoded"), std::string::npos) << error;
+  }
+}
+
 TEST(ImageCodec, UnsupportedLayoutsAreRefusedByName) {
   EXPECT_THROW(EncodePng(cv::Mat(4, 4, CV_32FC1, cv::Scalar(1.0f))), std::invalid_argument);
   EXPECT_THROW(EncodePng(cv::Mat(4, 4, CV_8UC2, cv::Scalar(1))), std::invalid_argument);
