@@ -1,19 +1,27 @@
 #include "app/command_line.h"
 
 #include <CLI/CLI.hpp>
+#include <unistd.h>
 
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <utility>
+#include <vector>
 
+#ifndef DSLAM_CORE_COMMANDS_ONLY
 #include "app/dds_commands.h"
 #include "app/figures_command.h"
+#endif
+#include "app/full_binary.h"
 #include "app/kitti_replay_command.h"
 #include "app/lidar_check_command.h"
+#ifndef DSLAM_CORE_COMMANDS_ONLY
 #include "app/render_scene_command.h"
+#include "app/study_command.h"
+#endif
 #include "app/run_command.h"
 #include "app/sim_command.h"
-#include "app/study_command.h"
 #include "output/dir_lock.h"
 #include "simulation/scenarios.h"
 
@@ -95,6 +103,7 @@ int RunCommandLine(int argc, char** argv) {
   replay_cmd->add_flag("--quiet", replay.quiet, "Print only errors");
   AddFigureFlags(replay_cmd, &replay);
 
+#ifndef DSLAM_CORE_COMMANDS_ONLY
   std::string figures_dir;
   dslam::FigureOptions figures;
   CLI::App* figures_cmd = app.add_subcommand(
@@ -108,7 +117,11 @@ int RunCommandLine(int argc, char** argv) {
       ->capture_default_str();
   figures_cmd->add_option("--width", figures.width, "Width in pixels at scale 1")->check(CLI::Range(200, 8000))->capture_default_str();
   figures_cmd->add_option("--height", figures.height, "Height in pixels at scale 1")->check(CLI::Range(150, 8000))->capture_default_str();
+  // Hidden: a run's figures, drawn by its child (app/full_binary.h) into the folder the run holds.
+  bool figures_for_parent = false;
+  figures_cmd->add_flag("--for-parent", figures_for_parent, "")->group("");
 
+#endif
   dslam::LidarCheckCommandOptions lidar_check;
   CLI::App* lidar_check_cmd = app.add_subcommand(
       "lidar-check", "LiDAR-only reference of a recording (ego-motion from scan registration, each cluster's speed) "
@@ -128,6 +141,7 @@ int RunCommandLine(int argc, char** argv) {
   lidar_check_cmd->add_option("--out", lidar_check.out_dir, "Output directory")->check(kOutputDir)->capture_default_str();
   lidar_check_cmd->add_flag("--quiet", lidar_check.quiet, "Print only the results and errors");
 
+#ifndef DSLAM_CORE_COMMANDS_ONLY
   dslam::RenderSceneOptions render;
   CLI::App* render_cmd = app.add_subcommand(
       "render-scene", "Render a KITTI-driven RGB-D scene (colour, depth, instance masks, exact ground truth) in the "
@@ -164,6 +178,7 @@ int RunCommandLine(int argc, char** argv) {
   render_cmd->add_option("--out", render.out_dir, "Output directory")->check(kOutputDir)->capture_default_str();
   render_cmd->add_flag("--quiet", render.quiet, "Print only errors and the summary");
 
+#endif
   dslam::RunCommandOptions run;
   CLI::App* run_cmd = app.add_subcommand(
       "run", "Run the image front-end and the back-end on a recorded or rendered image sequence (VDO-SLAM / DynoSAM "
@@ -200,6 +215,7 @@ int RunCommandLine(int argc, char** argv) {
   run_cmd->add_flag("--quiet", run.quiet, "Print only errors");
   AddFigureFlags(run_cmd, &run);
 
+#ifndef DSLAM_CORE_COMMANDS_ONLY
   dslam::StudyCommandOptions study;
   CLI::App* study_cmd = app.add_subcommand(
       "study", "The paper's front-end study on a rendered scene (render-scene --stereo --exact-flow): depth, "
@@ -358,6 +374,7 @@ int RunCommandLine(int argc, char** argv) {
       ->check(CLI::Range(0.0, 86400.0))
       ->capture_default_str();
 
+#endif
   // An unknown command is named (CLI11 would only say that one is required).
   if (argc > 1 && argv[1][0] != '-') {
     std::string names;
@@ -385,11 +402,16 @@ int RunCommandLine(int argc, char** argv) {
   // folder stops with status 4 instead of interleaving its files. (serve takes each vehicle's folder itself;
   // figures only a folder that exists: a missing one is bad input, said by the command.)
   std::optional<dslam::DirLock> out_lock;
-  const std::pair<CLI::App*, std::string> writers[] = {
-      {run_cmd, run.out_dir},       {study_cmd, study.out_dir}, {render_cmd, render.out_dir},
-      {sim_cmd, sim.out_dir},       {replay_cmd, replay.out_dir}, {lidar_check_cmd, lidar_check.out_dir},
-      {listen_cmd, listen.out_dir},
-      {figures_cmd, std::filesystem::is_directory(figures_dir) ? figures_dir : std::string()}};
+  std::vector<std::pair<CLI::App*, std::string>> writers = {
+      {run_cmd, run.out_dir}, {sim_cmd, sim.out_dir}, {replay_cmd, replay.out_dir},
+      {lidar_check_cmd, lidar_check.out_dir}};
+#ifndef DSLAM_CORE_COMMANDS_ONLY
+  writers.insert(writers.end(), {{study_cmd, study.out_dir}, {render_cmd, render.out_dir}, {listen_cmd, listen.out_dir}});
+  // A run's child drawing its figures does not take the folder its parent holds (if that is who holds it).
+  if (!figures_for_parent || !std::filesystem::is_directory(figures_dir) ||
+      dslam::FolderHolderPid(figures_dir) != ::getppid())
+    writers.push_back({figures_cmd, std::filesystem::is_directory(figures_dir) ? figures_dir : std::string()});
+#endif
   for (const auto& [cmd, dir] : writers) {
     if (!cmd->parsed() || dir.empty()) continue;
     try {
@@ -402,17 +424,23 @@ int RunCommandLine(int argc, char** argv) {
       return 2;
     }
   }
+  if (run_cmd->parsed()) return dslam::RunRunCommand(run, std::cout, std::cerr);
+  if (sim_cmd->parsed()) return dslam::RunSimCommand(sim, std::cout, std::cerr);
+  if (replay_cmd->parsed()) return dslam::RunKittiReplayCommand(replay, std::cout, std::cerr);
+  if (lidar_check_cmd->parsed()) return dslam::RunLidarCheckCommand(lidar_check, std::cout, std::cerr);
+#ifdef DSLAM_CORE_COMMANDS_ONLY
+  // dslam hands the other commands to dslam-full before parsing (main.cpp); this is for a caller that did not.
+  out_lock.reset();
+  return dslam::ExecFullBinary(argv, std::cerr);
+#else
   if (serve_cmd->parsed()) return dslam::RunServeCommand(serve, std::cout, std::cerr);
   if (publish_cmd->parsed()) return dslam::RunPublishCommand(publish, std::cout, std::cerr);
   if (listen_cmd->parsed()) return dslam::RunListenCommand(listen, std::cout, std::cerr);
-  if (run_cmd->parsed()) return dslam::RunRunCommand(run, std::cout, std::cerr);
   if (study_cmd->parsed()) return dslam::RunStudyCommand(study, std::cout, std::cerr);
   if (render_cmd->parsed()) return dslam::RunRenderSceneCommand(render, std::cout, std::cerr);
-  if (sim_cmd->parsed()) return dslam::RunSimCommand(sim, std::cout, std::cerr);
-  if (replay_cmd->parsed()) return dslam::RunKittiReplayCommand(replay, std::cout, std::cerr);
   if (figures_cmd->parsed()) return dslam::RunFiguresCommand(figures_dir, figures, std::cout, std::cerr);
-  if (lidar_check_cmd->parsed()) return dslam::RunLidarCheckCommand(lidar_check, std::cout, std::cerr);
   return 0;
+#endif
 }
 
 }  // namespace dslam

@@ -2,9 +2,11 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
+#include <sstream>
 #include <stdexcept>
 
-#include "app/figures_command.h"
+#include "app/full_binary.h"
 #include "pipeline/config_yaml.h"
 
 namespace dslam {
@@ -38,9 +40,9 @@ void RequireWritableOutDir(const std::string& dir) {
 
 int DrawRunFigures(const CommonRunOptions& options, std::ostream& out, std::ostream& err) {
   if (options.no_figures) return 0;
-  FigureOptions figures;
-  figures.scale = options.figure_scale;
-  return RunFiguresCommand(options.out_dir, figures, out, err);
+  std::ostringstream scale;
+  scale << std::setprecision(17) << options.figure_scale;
+  return RunFullBinary({"figures", options.out_dir, "--scale", scale.str(), "--for-parent"}, out, err);
 }
 
 nlohmann::json RunInfo(const std::string& command, const CommonRunOptions& options, const RunConfig& config) {

@@ -37,7 +37,8 @@ RunConfig BuildRunConfig(const CommonRunOptions& options, EntryPoint entry, cons
 // folder found only at the end loses the whole run. Throws std::runtime_error naming the folder.
 void RequireWritableOutDir(const std::string& dir);
 
-// The figures at the end of a run (unless options.no_figures): the exit code of `dslam figures`.
+// The figures at the end of a run (unless options.no_figures), drawn by `dslam-full figures` as a child
+// (app/full_binary.h): its exit code.
 int DrawRunFigures(const CommonRunOptions& options, std::ostream& out, std::ostream& err);
 
 // Fills the parameters every run records in metrics.json's "run" object.

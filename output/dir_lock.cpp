@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -32,6 +33,19 @@ DirLock::DirLock(const std::string& dir) {
     const ssize_t written = ::pwrite(fd_, pid.data(), pid.size(), 0);
     (void)written;  // the pid is a courtesy for the error message; the lock is what matters
   }
+}
+
+long FolderHolderPid(const std::string& dir) {
+  const std::string path = dir + "/.dslam.lock";
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return 0;
+  long pid = 0;
+  if (::flock(fd, LOCK_SH | LOCK_NB) != 0) {  // held: the holder wrote its pid when it took the lock
+    char holder[32] = {0};
+    if (::pread(fd, holder, sizeof holder - 1, 0) > 0) pid = std::strtol(holder, nullptr, 10);
+  }
+  ::close(fd);  // releases the shared lock if it was taken
+  return pid;
 }
 
 DirLock::~DirLock() {

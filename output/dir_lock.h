@@ -15,6 +15,10 @@ class FolderInUseError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The pid of the process holding `dir` (as it wrote it), 0 when none does. A run's figures are drawn by a child
+// process (app/full_binary.h) into the folder its parent holds: it asks this rather than taking the folder.
+long FolderHolderPid(const std::string& dir);
+
 class DirLock {
  public:
   // Creates `dir` if needed and takes it; throws FolderInUseError naming it (and the holder's pid) when

@@ -30,18 +30,34 @@ Outcome Dslam(const std::vector<std::string>& args) {
   return {status, test::ReadFile(log)};
 }
 
-// PCL, OpenCV's image codecs (and through them GDAL) and its contrib filters are loaded only by the commands
-// that use them (data/runtime_module.h): together they took ~0.25 s of every process's start-up.
-TEST(Cli, DslamStartsWithoutTheLibrariesOnlySomeCommandsNeed) {
-  FILE* pipe = popen("ldd " DSLAM_BINARY " 2>&1", "r");
-  ASSERT_NE(pipe, nullptr);
+std::string SharedLibrariesOf(const std::string& binary) {
+  FILE* pipe = popen(("ldd " + binary + " 2>&1").c_str(), "r");
+  if (!pipe) return {};
   std::string libraries;
   char buffer[4096];
   while (fgets(buffer, sizeof(buffer), pipe)) libraries += buffer;
   pclose(pipe);
+  return libraries;
+}
+
+// PCL, OpenCV's image codecs (and through them GDAL) and its contrib filters are loaded only by the commands
+// that use them (data/runtime_module.h): together they took ~0.25 s of every process's start-up. VTK, MPI and
+// Fast DDS (~50 ms) are in dslam-full, which dslam hands the commands that need them (app/full_binary.h).
+TEST(Cli, DslamStartsWithoutTheLibrariesOnlySomeCommandsNeed) {
+  const std::string libraries = SharedLibrariesOf(DSLAM_BINARY);
   ASSERT_NE(libraries.find("libopencv_core"), std::string::npos) << libraries;  // ldd did list them
-  for (const char* optional : {"libpcl_", "libgdal", "libopencv_imgcodecs", "libopencv_ximgproc"})
+  for (const char* optional :
+       {"libpcl_", "libgdal", "libopencv_imgcodecs", "libopencv_ximgproc", "libvtk", "libmpi", "libfastrtps"})
     EXPECT_EQ(libraries.find(optional), std::string::npos) << optional << " is linked into dslam";
+  const std::string full = SharedLibrariesOf(DSLAM_BINARY_DIR "/dslam-full");
+  for (const char* needed : {"libvtkRenderingCore", "libfastrtps"})
+    EXPECT_NE(full.find(needed), std::string::npos) << needed << " is not linked into dslam-full: " << full;
+  // The commands of dslam-full, through dslam: the help of each, its usage line naming what the user typed.
+  for (const char* command : {"serve", "publish", "listen", "figures", "render-scene", "study"}) {
+    const Outcome o = Dslam({command, "--help"});
+    EXPECT_EQ(o.status, 0) << command << ": " << o.output;
+    EXPECT_NE(o.output.find(std::string("dslam ") + command + " [OPTIONS]"), std::string::npos) << o.output;
+  }
 }
 
 TEST(Cli, BadCommandsAndOptionsExitWithStatus2AndSaySo) {

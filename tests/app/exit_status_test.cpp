@@ -74,6 +74,12 @@ TEST(ExitStatus, EveryCommandRefusesAnOutputFolderInUseWithStatus4) {
       EXPECT_NE(test::ReadFile(log).find("output folder " + busy + " is in use by another process"), std::string::npos)
           << test::ReadFile(log);
     }
+    // The figures of a run are drawn by its child (the hidden --for-parent), into the folder the run holds;
+    // here this test is that parent. (Nothing to draw in it: status 2, not 4.)
+    const std::string log = dir + "/figures_for_parent.log";
+    test::Process p({"figures", busy, "--for-parent"}, log);
+    EXPECT_EQ(p.wait(std::chrono::seconds(60)), 2) << test::ReadFile(log);
+    EXPECT_EQ(test::ReadFile(log).find("in use"), std::string::npos) << test::ReadFile(log);
   }
   EXPECT_EQ(Status("sim --frames 5 --quiet --no-figures --out " + busy), 0);
   std::filesystem::remove_all(dir);
