@@ -132,7 +132,7 @@ cv::Mat DecodeJpeg(const std::vector<uint8_t>& bytes, ImageDecode mode, std::str
   return image;
 }
 
-std::vector<uint8_t> EncodePng(const cv::Mat& image, int compression_level) {
+std::vector<uint8_t> EncodePng(const cv::Mat& image, int compression_level, PngFilter filter) {
   const int channels = image.channels(), depth = image.depth();
   if (image.empty() || (depth != CV_8U && depth != CV_16U) || (channels != 1 && channels != 3 && channels != 4))
     throw std::invalid_argument("EncodePng: needs an 8- or 16-bit image of 1, 3 or 4 channels");
@@ -150,6 +150,7 @@ std::vector<uint8_t> EncodePng(const cv::Mat& image, int compression_level) {
   }
   png_set_write_fn(png, &out, WriteToVector, FlushNothing);
   png_set_compression_level(png, compression_level);
+  if (filter == PngFilter::kNone) png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE);
   png_set_IHDR(png, info, static_cast<png_uint_32>(image.cols), static_cast<png_uint_32>(image.rows),
                depth == CV_16U ? 16 : 8,
                channels == 1 ? PNG_COLOR_TYPE_GRAY : channels == 3 ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_RGB_ALPHA,
@@ -200,8 +201,8 @@ cv::Mat ReadPngFile(const std::string& path, ImageDecode mode) {
   return image;
 }
 
-void WritePngFile(const std::string& path, const cv::Mat& image, int compression_level) {
-  const std::vector<uint8_t> bytes = EncodePng(image, compression_level);
+void WritePngFile(const std::string& path, const cv::Mat& image, int compression_level, PngFilter filter) {
+  const std::vector<uint8_t> bytes = EncodePng(image, compression_level, filter);
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   if (!out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())) || !out.flush())
     throw std::runtime_error("cannot write " + path);

@@ -1,6 +1,9 @@
 #include "data/image_codec.h"
 
 #include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <algorithm>
 
 #include <opencv2/imgproc.hpp>
 
@@ -19,15 +22,49 @@ double MaxDifference(const cv::Mat& a, const cv::Mat& b) { return cv::norm(a, b,
 TEST(ImageCodec, PngRoundTripsEveryStoredLayoutExactly) {
   for (int type : {CV_8UC1, CV_16UC1, CV_8UC3, CV_16UC3, CV_8UC4, CV_16UC4}) {
     const cv::Mat image = Random(type, 7 + type);
-    for (int level : {0, 1, 9}) {
-      const std::vector<uint8_t> bytes = EncodePng(image, level);
-      std::string error;
-      const cv::Mat back = DecodePng(bytes, ImageDecode::kUnchanged, &error);
-      ASSERT_FALSE(back.empty()) << error;
-      EXPECT_EQ(back.type(), type);
-      EXPECT_EQ(MaxDifference(back, image), 0.0) << "type " << type << " level " << level;
-    }
+    for (int level : {0, 1, 9})
+      for (PngFilter filter : {PngFilter::kAdaptive, PngFilter::kNone}) {
+        const std::vector<uint8_t> bytes = EncodePng(image, level, filter);
+        std::string error;
+        const cv::Mat back = DecodePng(bytes, ImageDecode::kUnchanged, &error);
+        ASSERT_FALSE(back.empty()) << error;
+        EXPECT_EQ(back.type(), type);
+        EXPECT_EQ(MaxDifference(back, image), 0.0)
+            << "type " << type << " level " << level << " filter " << static_cast<int>(filter);
+      }
   }
+}
+
+// Each stored row's first byte: the PNG filter it was predicted with (0: none).
+std::vector<int> RowFilters(const std::vector<uint8_t>& png, const cv::Mat& image) {
+  std::vector<uint8_t> idat;
+  for (size_t at = 8; at + 12 <= png.size();) {
+    const size_t length = (size_t{png[at]} << 24) | (size_t{png[at + 1]} << 16) | (size_t{png[at + 2]} << 8) | png[at + 3];
+    if (std::string(png.begin() + static_cast<std::ptrdiff_t>(at + 4), png.begin() + static_cast<std::ptrdiff_t>(at + 8)) == "IDAT")
+      idat.insert(idat.end(), png.begin() + static_cast<std::ptrdiff_t>(at + 8),
+                  png.begin() + static_cast<std::ptrdiff_t>(at + 8 + length));
+    at += 12 + length;
+  }
+  const size_t row_bytes = 1 + image.cols * image.elemSize();
+  std::vector<uint8_t> raw(row_bytes * static_cast<size_t>(image.rows));
+  uLongf raw_size = raw.size();
+  if (uncompress(raw.data(), &raw_size, idat.data(), idat.size()) != Z_OK || raw_size != raw.size()) return {};
+  std::vector<int> filters;
+  for (int v = 0; v < image.rows; ++v) filters.push_back(raw[row_bytes * static_cast<size_t>(v)]);
+  return filters;
+}
+
+// kNone stores every row unpredicted; kAdaptive predicts a smooth image's rows (so the option is what acts).
+TEST(ImageCodec, PngFilterNoneStoresRowsUnpredicted) {
+  cv::Mat gradient(40, 64, CV_8UC3);
+  for (int v = 0; v < gradient.rows; ++v)
+    for (int u = 0; u < gradient.cols; ++u) gradient.at<cv::Vec3b>(v, u) = cv::Vec3b(u * 3, v * 5, (u + v) * 2);
+  const std::vector<int> none = RowFilters(EncodePng(gradient, 1, PngFilter::kNone), gradient);
+  ASSERT_EQ(none.size(), 40u);
+  EXPECT_EQ(std::count(none.begin(), none.end(), 0), 40);
+  const std::vector<int> adaptive = RowFilters(EncodePng(gradient, 1, PngFilter::kAdaptive), gradient);
+  ASSERT_EQ(adaptive.size(), 40u);
+  EXPECT_GT(std::count_if(adaptive.begin(), adaptive.end(), [](int f) { return f != 0; }), 20);
 }
 
 TEST(ImageCodec, ColourDecodeGivesEightBitBgrFromAnyLayout) {
