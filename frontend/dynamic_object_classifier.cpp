@@ -116,9 +116,16 @@ CameraMotionEstimate DynamicObjectClassifier::cameraMotion(const FrameMeasuremen
   return {SE3::Identity(), false, std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
 }
 
+double DynamicObjectClassifier::transitionPeriods(const FrameMeasurement& prev, const FrameMeasurement& curr) const {
+  if (curr.t_ns <= prev.t_ns) return 1.0;  // no stamps, or not increasing: the nominal period
+  const double periods = 1e-9 * static_cast<double>(curr.t_ns - prev.t_ns) * frame_rate_hz_;
+  return periods > 1.5 ? periods : 1.0;
+}
+
 std::optional<ObjectMotionTest> DynamicObjectClassifier::testObjectMotion(const ObjectObservation& prev,
                                                                           const ObjectObservation& curr,
-                                                                          const CameraMotionEstimate& camera) const {
+                                                                          const CameraMotionEstimate& camera,
+                                                                          double periods) const {
   // The image front-end has fitted this object's motion already (against its own camera motion); other
   // sources get the same fit here, against `camera`.
   std::optional<ObjectMotionFit> fit = curr.motion_fit;
@@ -136,7 +143,7 @@ std::optional<ObjectMotionTest> DynamicObjectClassifier::testObjectMotion(const 
   const double sum_sq = fit->residual_sq_sum_m2;
   ObjectMotionTest test;
   const Vec3 displacement = ObjectVelocityPerFrame(fit->H_camera_prev, centroid);
-  test.speed_mps = SpeedMps(displacement, frame_rate_hz_);
+  test.speed_mps = SpeedMps(displacement, frame_rate_hz_ / periods);
   // Per-axis variance of the centroid displacement if the object were static: the object's own
   // point noise (from the fit's residuals) plus the camera motion's uncertainty at that distance.
   const double sigma_points_sq = sum_sq / std::max(1.0, 3.0 * n - 6.0) / n;
@@ -193,6 +200,9 @@ ReportedMotion DynamicObjectClassifier::reportOverWindow(const Window& window) c
 
 void DynamicObjectClassifier::label(const FrameMeasurement& prev, FrameMeasurement* curr) {
   const CameraMotionEstimate camera = cameraMotion(prev, *curr);
+  // Across a gap (frames dropped or lost) a displacement spans several periods: speeds are over the step, and
+  // the window keeps displacements per period (the chi-square tests, a ratio of the two, do not change).
+  const double periods = transitionPeriods(prev, *curr);
   std::map<int, int> streaks;
   std::map<int, Window> windows;
   for (auto& obj : curr->objects) {
@@ -202,16 +212,17 @@ void DynamicObjectClassifier::label(const FrameMeasurement& prev, FrameMeasureme
     for (const auto& before : prev.objects) {
       if (before.object_id != obj.object_id) continue;
       Window window = windows_.count(obj.object_id) ? windows_.at(obj.object_id) : Window{};
-      if (const auto test = testObjectMotion(before, obj, camera)) {
+      if (const auto test = testObjectMotion(before, obj, camera, periods)) {
         still = test->speed_mps < params_.dynamic_speed_threshold_mps && !test->significant;
-        window.displacement.push_back(R_first_camera_ * test->displacement_camera_prev);
+        window.displacement.push_back(R_first_camera_ * test->displacement_camera_prev / periods);
         const bool small = obj.mask_area_frac && 100.0 * *obj.mask_area_frac < params_.small_object_area_pct;
-        const double margin_mps = small ? std::sqrt(params_.static_test_chi2 * test->variance_m2) * frame_rate_hz_ : 0.0;
+        const double margin_mps =
+            small ? std::sqrt(params_.static_test_chi2 * test->variance_m2) * frame_rate_hz_ / periods : 0.0;
         window.last_clearly_moving =
             test->significant &&
             test->speed_mps - margin_mps >= kClearMotionFactor * params_.report_speed_threshold_mps &&
             test->inliers >= params_.min_static_inliers;
-        window.variance_m2.push_back(test->variance_m2);
+        window.variance_m2.push_back(test->variance_m2 / (periods * periods));
         while (static_cast<int>(window.displacement.size()) > window_transitions_) {
           window.displacement.pop_front();
           window.variance_m2.pop_front();

@@ -74,16 +74,21 @@ class DynamicObjectClassifier {
 
   // Relative camera motion T_prev_curr between the two frames (static points, else odometry, else identity).
   CameraMotionEstimate cameraMotion(const FrameMeasurement& prev, const FrameMeasurement& curr) const;
-  // The object's own motion between the frames; nullopt with too few consistent tracks.
+  // The object's own motion between the frames, `periods` frame periods apart (transitionPeriods); nullopt
+  // with too few consistent tracks.
   std::optional<ObjectMotionTest> testObjectMotion(const ObjectObservation& prev, const ObjectObservation& curr,
-                                                   const CameraMotionEstimate& camera) const;
+                                                   const CameraMotionEstimate& camera, double periods = 1.0) const;
+  // How many frame periods the transition spans: its stamps' step in periods when that is a gap (over 1.5
+  // periods: frames dropped or lost), else 1 (stamps jitter: KITTI raw's by a few ms; speeds stay per period).
+  double transitionPeriods(const FrameMeasurement& prev, const FrameMeasurement& curr) const;
   // Sets is_dynamic and reported of every object of `curr`; objects not seen in `prev` stay dynamic and
   // unsupported. Call once per frame in order: it counts each object's consecutive still transitions
   // and keeps its last transitions.
   void label(const FrameMeasurement& prev, FrameMeasurement* curr);
 
  private:
-  // The object's last transitions (at most the window), displacements in the axes of the first camera.
+  // The object's last transitions (at most the window), displacements in the axes of the first camera, per
+  // frame period (a transition over a gap counts its displacement per period, its variance alike).
   struct Window {
     std::deque<Vec3> displacement;
     std::deque<double> variance_m2;

@@ -88,6 +88,34 @@ TEST(DynamicObjectClassifier, ParkedObjectIsStaticMovingObjectIsDynamic) {
   EXPECT_NEAR(test->speed_mps, 3.0, 1e-6);
 }
 
+// Across a gap (frames dropped or lost, stamps 4 periods apart) a displacement is over 4 periods: 0.4 m is
+// 1 m/s, not 4 m/s, and one such transition is not "clearly moving". Stamps within 1.5 periods (jitter) or
+// missing keep the nominal period.
+TEST(DynamicObjectClassifier, AcrossAGapSpeedsAreOverTheStampsStep) {
+  const SE3 forward(Eigen::Quaterniond::Identity(), Vec3(0.0, 0.0, 0.4));
+  TwoFrames gap = MakeFrames(forward, true, false);
+  gap.prev.t_ns = 1'000'000'000;
+  gap.curr.t_ns = 1'400'000'000;
+  DynamicObjectClassifier c(OneStep(), 10.0);
+  EXPECT_NEAR(c.transitionPeriods(gap.prev, gap.curr), 4.0, 1e-9);
+  TwoFrames jittered = gap;
+  jittered.curr.t_ns = 1'120'000'000;
+  EXPECT_EQ(c.transitionPeriods(jittered.prev, jittered.curr), 1.0);
+  TwoFrames unstamped = MakeFrames(forward, true, false);
+  EXPECT_EQ(c.transitionPeriods(unstamped.prev, unstamped.curr), 1.0);
+
+  const auto over_gap = c.testObjectMotion(gap.prev.objects[0], gap.curr.objects[0], c.cameraMotion(gap.prev, gap.curr),
+                                           c.transitionPeriods(gap.prev, gap.curr));
+  ASSERT_TRUE(over_gap);
+  EXPECT_NEAR(over_gap->speed_mps, 1.0, 1e-6);
+  c.label(gap.prev, &gap.curr);
+  EXPECT_EQ(gap.curr.objects[0].reported, ReportedMotion::kUnsupported);  // one transition at 1 m/s: not yet
+
+  DynamicObjectClassifier nominal(OneStep(), 10.0);
+  nominal.label(unstamped.prev, &unstamped.curr);  // the same displacement in one period: 4 m/s, clearly moving
+  EXPECT_EQ(unstamped.curr.objects[0].reported, ReportedMotion::kMoving);
+}
+
 void AddNoise(FrameMeasurement* f, double sigma, uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> n(0.0, sigma);
