@@ -73,6 +73,14 @@ inline OdometryMeasurement Compose(const OdometryMeasurement& a, const OdometryM
   return {a.T_prev_curr * b.T_prev_curr, (a.sigma.array().square() + b.sigma.array().square()).sqrt().matrix()};
 }
 
+// Steps between frames, by their stamps. A step of more than kGapPeriods frame periods is a gap (frames dropped
+// or lost on the way); within it the stamps only jitter (KITTI raw's by a few ms).
+constexpr double kGapPeriods = 1.5;
+// The step from `prev_t_ns` to `t_ns` in frame periods of `period_s`; 0 when the stamps do not increase.
+inline double StepPeriods(int64_t prev_t_ns, int64_t t_ns, double period_s) {
+  return t_ns > prev_t_ns ? 1e-9 * static_cast<double>(t_ns - prev_t_ns) / period_s : 0.0;
+}
+
 struct FrameMeasurement {
   int frame_index = 0;
   int64_t t_ns = 0;

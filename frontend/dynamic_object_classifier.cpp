@@ -117,9 +117,9 @@ CameraMotionEstimate DynamicObjectClassifier::cameraMotion(const FrameMeasuremen
 }
 
 double DynamicObjectClassifier::transitionPeriods(const FrameMeasurement& prev, const FrameMeasurement& curr) const {
-  if (curr.t_ns <= prev.t_ns) return 1.0;  // no stamps, or not increasing: the nominal period
-  const double periods = 1e-9 * static_cast<double>(curr.t_ns - prev.t_ns) * frame_rate_hz_;
-  return periods > 1.5 ? periods : 1.0;
+  // No stamps, stamps not increasing, or jitter: the nominal period.
+  const double periods = StepPeriods(prev.t_ns, curr.t_ns, 1.0 / frame_rate_hz_);
+  return periods > kGapPeriods ? periods : 1.0;
 }
 
 std::optional<ObjectMotionTest> DynamicObjectClassifier::testObjectMotion(const ObjectObservation& prev,

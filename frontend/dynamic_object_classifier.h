@@ -78,8 +78,8 @@ class DynamicObjectClassifier {
   // with too few consistent tracks.
   std::optional<ObjectMotionTest> testObjectMotion(const ObjectObservation& prev, const ObjectObservation& curr,
                                                    const CameraMotionEstimate& camera, double periods = 1.0) const;
-  // How many frame periods the transition spans: its stamps' step in periods when that is a gap (over 1.5
-  // periods: frames dropped or lost), else 1 (stamps jitter: KITTI raw's by a few ms; speeds stay per period).
+  // How many frame periods the transition spans: its stamps' step in periods when that is a gap (kGapPeriods,
+  // data/measurements.h), else 1 (speeds stay per period).
   double transitionPeriods(const FrameMeasurement& prev, const FrameMeasurement& curr) const;
   // Sets is_dynamic and reported of every object of `curr`; objects not seen in `prev` stay dynamic and
   // unsupported. Call once per frame in order: it counts each object's consecutive still transitions

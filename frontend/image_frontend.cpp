@@ -322,7 +322,8 @@ FrameMeasurement ImageFrontend::processUncommitted(const ImageFrame& frame, cons
   bool odometry_rejected = false;
   if (frame.odometry) T_prev_curr = frame.odometry->T_prev_curr;
   // Frames were dropped since the previous one (serve when it falls behind): the flow spans several frames.
-  const bool after_gap = prev_frame_index_ && static_cast<double>(frame.t_ns - prev_t_ns_) > 1.5e9 * params_.frame_interval_s;
+  const bool after_gap =
+      prev_frame_index_ && StepPeriods(prev_t_ns_, frame.t_ns, params_.frame_interval_s) > kGapPeriods;
   if (const auto pnp = EstimateCameraMotionPnp(static_prev, static_uv, camera_, params_.pnp, T_prev_curr)) {
     stats.pnp_inliers = static_cast<int>(pnp->inliers.size());
     stats.camera_from_pnp = true;
