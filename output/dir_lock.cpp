@@ -11,21 +11,31 @@
 #include <stdexcept>
 
 namespace dslam {
+namespace {
+
+std::string LockPath(const std::string& dir) { return dir + "/.dslam.lock"; }
+
+// What the holder of the lock on `fd` wrote when it took it: its pid ("" when nothing could be read).
+std::string HolderWritten(int fd) {
+  char holder[32] = {0};
+  const ssize_t n = ::pread(fd, holder, sizeof holder - 1, 0);
+  return n > 0 ? std::string(holder, static_cast<size_t>(n)) : std::string();
+}
+
+}  // namespace
 
 DirLock::DirLock(const std::string& dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw std::runtime_error("cannot create the output folder " + dir + ": " + ec.message());
-  const std::string path = dir + "/.dslam.lock";
-  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  fd_ = ::open(LockPath(dir).c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (fd_ < 0) throw std::runtime_error("cannot write in the output folder " + dir + ": " + std::strerror(errno));
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-    char holder[32] = {0};
-    const ssize_t n = ::pread(fd_, holder, sizeof holder - 1, 0);
+    const std::string holder = HolderWritten(fd_);
     ::close(fd_);
     fd_ = -1;
     throw FolderInUseError("output folder " + dir + " is in use by another process" +
-                             (n > 0 ? std::string(" (pid ") + std::string(holder, static_cast<size_t>(n)) + ")" : std::string()) +
+                             (holder.empty() ? std::string() : " (pid " + holder + ")") +
                              ": give each its own --out or vehicle name");
   }
   const std::string pid = std::to_string(::getpid());
@@ -36,14 +46,11 @@ DirLock::DirLock(const std::string& dir) {
 }
 
 long FolderHolderPid(const std::string& dir) {
-  const std::string path = dir + "/.dslam.lock";
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  const int fd = ::open(LockPath(dir).c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) return 0;
   long pid = 0;
-  if (::flock(fd, LOCK_SH | LOCK_NB) != 0) {  // held: the holder wrote its pid when it took the lock
-    char holder[32] = {0};
-    if (::pread(fd, holder, sizeof holder - 1, 0) > 0) pid = std::strtol(holder, nullptr, 10);
-  }
+  if (::flock(fd, LOCK_SH | LOCK_NB) != 0)  // held: the holder wrote its pid when it took the lock
+    pid = std::strtol(HolderWritten(fd).c_str(), nullptr, 10);
   ::close(fd);  // releases the shared lock if it was taken
   return pid;
 }
