@@ -85,6 +85,18 @@ cv::Mat ReadImage(const std::string& path, ImageDecode mode, int64_t max_pixels)
   return image;
 }
 
+// An image's width and height; a PNG's from its header (the file checked whole, as ReadImage checks it)
+// without decoding its pixels, which its frame's reading does anyway.
+cv::Size ReadImageSize(const std::string& path, int64_t max_pixels) {
+  const std::vector<uint8_t> bytes = ReadFileBytes(path);
+  if (bytes.empty()) throw std::runtime_error("cannot read image " + path + " (missing or empty)");
+  if (const std::string problem = FindPngProblem(bytes, max_pixels); !problem.empty())
+    throw std::runtime_error("cannot read image " + path + ": " + problem);
+  if (const std::optional<PngSize> size = ReadPngSize(bytes))
+    return cv::Size(static_cast<int>(size->width), static_cast<int>(size->height));
+  return ReadImage(path, ImageDecode::kUnchanged, max_pixels).size();
+}
+
 }  // namespace
 
 void ImageDatasetOptions::validate() const {
@@ -219,8 +231,8 @@ ImageDataset::ImageDataset(const std::string& dir, const ImageDatasetOptions& op
   // Camera: the left colour camera (P2) when it is given, else P0; the size from the first image.
   const auto& P = calib->P[2](0, 0) > 0.0 ? calib->P[2] : calib->P[0];
   camera_.fx = P(0, 0), camera_.fy = P(1, 1), camera_.cx = P(0, 2), camera_.cy = P(1, 2);
-  const cv::Mat first = ReadImage(images_.front(), ImageDecode::kUnchanged, options_.max_image_pixels);
-  camera_.width = first.cols, camera_.height = first.rows;
+  const cv::Size first = ReadImageSize(images_.front(), options_.max_image_pixels);
+  camera_.width = first.width, camera_.height = first.height;
   // Focal lengths in normalised units (0.58 for 721 px) parse, and then every depth and motion is wrong: a
   // pinhole camera's field of view across its image is between about 1 and 170 degrees.
   for (const double f : {camera_.fx, camera_.fy})

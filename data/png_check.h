@@ -6,6 +6,7 @@
 // written damaged with valid checksums) is left to the decoder.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,5 +16,12 @@ namespace dslam {
 // PNG of at most `max_pixels`; otherwise what is wrong, e.g. "PNG cut off in chunk IDAT at byte 20000 (...)" or
 // "PNG chunk IDAT at byte 41 fails its checksum (damaged)".
 std::string FindPngProblem(const std::vector<unsigned char>& bytes, int64_t max_pixels);
+
+// The image size a PNG's header gives, without decoding it; nullopt when `bytes` do not start with a PNG
+// signature and a whole IHDR header.
+struct PngSize {
+  int64_t width = 0, height = 0;
+};
+std::optional<PngSize> ReadPngSize(const std::vector<unsigned char>& bytes);
 
 }  // namespace dslam

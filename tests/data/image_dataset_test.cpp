@@ -95,6 +95,18 @@ TEST(ImageDataset, NamesTheMissingCorruptOrMisfitFile) {
   dslam::WritePngFile(dir2 + "/depth/" + Name(0, "png"), cv::Mat(kH, kW, CV_8UC3, cv::Scalar(1)));
   EXPECT_NE(ErrorOf([&] { data2.read(0); }).find("depth PNG must be 16-bit"), std::string::npos);
 
+  // The first image gives the camera's size from its header; one that is no image, or cut short, is named
+  // when the dataset opens.
+  const std::string dir_first = MakeVdoDataset("vdo_first");
+  std::ofstream(dir_first + "/image_0/" + Name(0, "png")) << "not a png";
+  EXPECT_NE(ErrorOf([&] { ImageDataset(dir_first, {}); }).find("cannot read image " + dir_first + "/image_0/000000.png"),
+            std::string::npos);
+  std::vector<uint8_t> cut = EncodePng(cv::Mat(kH, kW, CV_8UC3, cv::Scalar(1, 2, 3)));
+  cut.resize(cut.size() - 5);
+  std::ofstream(dir_first + "/image_0/" + Name(0, "png"), std::ios::binary)
+      .write(reinterpret_cast<const char*>(cut.data()), static_cast<std::streamsize>(cut.size()));
+  EXPECT_NE(ErrorOf([&] { ImageDataset(dir_first, {}); }).find("000000.png: PNG cut off"), std::string::npos);
+
   const std::string dir3 = MakeVdoDataset("vdo_odometry");
   std::ofstream(dir3 + "/odometry.txt") << "1 0 0 nan 0 0 0 1 0.1 0.1 0.1 0.01 0.01 0.01\n";
   EXPECT_NE(ErrorOf([&] { ImageDataset(dir3, {}); }).find("odometry.txt:1: tz 'nan'"), std::string::npos);

@@ -39,6 +39,25 @@ TEST(PngCheck, AWholePngPassesACutOneIsNamedAndOtherFilesGoToTheDecoder) {
   fs::remove_all(dir);
 }
 
+// The size is in the first 24 bytes (signature, IHDR's length, type, width, height): nothing is decoded.
+TEST(PngCheck, TheSizeIsReadFromTheHeaderAlone) {
+  cv::Mat image(120, 200, CV_16UC1, cv::Scalar(7));
+  const std::vector<unsigned char> bytes = EncodePng(image);
+  for (size_t keep : {bytes.size(), size_t{24}}) {
+    const std::optional<PngSize> size =
+        ReadPngSize(std::vector<unsigned char>(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(keep)));
+    ASSERT_TRUE(size) << keep;
+    EXPECT_EQ(size->width, 200);
+    EXPECT_EQ(size->height, 120);
+  }
+  EXPECT_FALSE(ReadPngSize(std::vector<unsigned char>(bytes.begin(), bytes.begin() + 23)));
+  std::vector<unsigned char> not_ihdr = bytes;
+  not_ihdr[12] = 'X';  // the first chunk's type
+  EXPECT_FALSE(ReadPngSize(not_ihdr));
+  EXPECT_FALSE(ReadPngSize({'h', 'e', 'l', 'l', 'o'}));
+  EXPECT_FALSE(ReadPngSize(EncodeJpeg(cv::Mat(16, 16, CV_8UC3, cv::Scalar(1, 2, 3)))));
+}
+
 
 // A byte changed inside the image data (bit rot, a bad copy) fails that chunk's checksum: named, before libpng
 // would print its own "libpng error" line.
