@@ -71,6 +71,14 @@ class StagedPipeline {
   // frame waits at most for the frame before it. False once the pipeline stopped.
   bool pushNewest(ImageFrame frame);
   uint64_t framesDropped() const { return frames_.dropped(); }
+  // For a run whose rate is what counts (`dslam run` reading a dataset): from its next frame on, the
+  // back-end's thread yields the CPU to the front-end's (kBackendYieldNiceSteps nice levels lower), the stage
+  // that sets the rate while the back-end has slack. A service keeps both equal, as is the default: there
+  // each frame's estimate is wanted as soon as it can be made. The estimates are the same either way.
+  void favourFrontend() { favour_frontend_ = true; }
+  static constexpr int kBackendYieldNiceSteps = 5;
+  // The back-end thread's nice value after its last frame (for tests and status).
+  int backendNice() const { return backend_nice_; }
   // Processes everything pushed, joins the stages and returns ours' result; throws a stage's error.
   MethodResult finish();
   // After finish(): the seconds a method spent in its estimators.
@@ -107,6 +115,8 @@ class StagedPipeline {
   std::exception_ptr error_;
   std::atomic<bool> abort_{false};  // the destructor: stop without draining
   std::atomic<bool> skip_{false};   // skipQueued(): drop what is queued, still finish
+  std::atomic<bool> favour_frontend_{false};
+  std::atomic<int> backend_nice_{0};
   std::thread frontend_thread_, backend_thread_;
 };
 

@@ -14,6 +14,7 @@
 #include "app/run_command.h"
 #include "output/result_reader.h"
 #include "output/trajectory_io.h"
+#include "pipeline/thread_priority.h"
 #include "pipeline/vehicle_pipeline.h"
 #include "support/rendered_city.h"
 #include "support/temp_paths.h"
@@ -95,6 +96,34 @@ TEST(StagedPipeline, EqualsTheSequentialPipelineAndCarriesARejectedFramesOdometr
                   .norm(),
               0.0);
   EXPECT_FALSE(staged.push(data.read(0)));  // finished
+}
+
+// An offline run favours the front-end: the back-end's thread, and only it, runs at a lower priority, and
+// every estimate is the one the pipeline gives with equal priorities.
+TEST(StagedPipeline, FavouringTheFrontendLowersTheBackendsPriorityOnlyAndChangesNoEstimate) {
+  const std::string dir = test::RenderedCity("staged_city", 12);
+  const RunConfig config = DefaultRunConfig(EntryPoint::kRun);
+  const ImageDataset data(dir, config.dataset);
+  const int nice_before = ThisThreadsNice();
+  std::map<bool, std::vector<FrameEstimate>> estimates;
+  std::map<bool, int> backend_nice;
+  for (const bool favour : {false, true}) {
+    StagedPipelineCallbacks callbacks;
+    callbacks.on_estimate = [&](const FrameEstimate& e, const FrameMeasurement&, const FrameTiming&) {
+      estimates[favour].push_back(e);
+    };
+    StagedPipeline staged(config, data.camera(), data.frameRateHz(), 4, callbacks);
+    if (favour) staged.favourFrontend();
+    for (int k = 0; k < data.size(); ++k) ASSERT_TRUE(staged.pushPrepared(data.read(k)));
+    staged.finish();
+    backend_nice[favour] = staged.backendNice();
+  }
+  EXPECT_EQ(backend_nice[false], nice_before);
+  EXPECT_EQ(backend_nice[true], std::min(19, nice_before + StagedPipeline::kBackendYieldNiceSteps));
+  EXPECT_EQ(ThisThreadsNice(), nice_before);  // the caller's thread (the reader) keeps its priority
+  ASSERT_EQ(estimates[true].size(), static_cast<size_t>(data.size()));
+  ASSERT_EQ(estimates[false].size(), estimates[true].size());
+  for (size_t k = 0; k < estimates[true].size(); ++k) ExpectSame(estimates[true][k], estimates[false][k]);
 }
 
 TEST(StagedPipeline, PushNewestDropsWaitingFramesAndCarriesTheirOdometryOn) {
