@@ -77,7 +77,7 @@ class StagedPipeline {
   // each frame's estimate is wanted as soon as it can be made. The estimates are the same either way.
   void favourFrontend() { favour_frontend_ = true; }
   static constexpr int kBackendYieldNiceSteps = 5;
-  // The back-end thread's nice value after its last frame (for tests and status).
+  // The back-end thread's nice value: its start's, then the one favourFrontend() set (for tests).
   int backendNice() const { return backend_nice_; }
   // Processes everything pushed, joins the stages and returns ours' result; throws a stage's error.
   MethodResult finish();
