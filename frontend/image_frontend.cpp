@@ -34,7 +34,7 @@ cv::Mat ToLabels(const cv::Mat& instance_ids, const cv::Size& size) {
   if (instance_ids.empty()) return cv::Mat(size, CV_32S, cv::Scalar(0));
   cv::Mat labels;
   instance_ids.convertTo(labels, CV_32S);
-  labels.setTo(0, labels < 0);
+  if (instance_ids.depth() != CV_16U) labels.setTo(0, labels < 0);  // unsigned ids have no "none" to clear
   return labels;
 }
 

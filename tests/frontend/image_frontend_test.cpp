@@ -314,6 +314,24 @@ TEST(ImageFrontend, UndoLastTakesAFrameBackAsIfItNeverCame) {
   }
 }
 
+// Signed instance ids (Mask R-CNN's -1 for "none") are background where negative: the same measurements as
+// unsigned ids with 0 there.
+TEST(ImageFrontend, NegativeSignedInstanceIdsAreBackgroundAsUnsignedZerosAre) {
+  ImageFrontend unsigned_ids(Params(), Camera()), signed_ids(Params(), Camera());
+  for (int k = 0; k < 4; ++k) {
+    const ImageFrame frame = MakeFrame(k);
+    ImageFrame with_none = frame;
+    frame.instance_ids.convertTo(with_none.instance_ids, CV_32S);
+    with_none.instance_ids.setTo(-1, frame.instance_ids == 0);
+    ASSERT_GT(cv::countNonZero(with_none.instance_ids < 0), 0);
+    const FrameMeasurement a = unsigned_ids.process(frame);
+    const FrameMeasurement b = signed_ids.process(with_none);
+    ExpectSameMeasurement(a, b);
+    EXPECT_EQ(a.objects.size(), 1u) << k;
+    EXPECT_EQ(unsigned_ids.lastStats().mask_labels, signed_ids.lastStats().mask_labels) << k;
+  }
+}
+
 // A frame prepared elsewhere (a pipeline's other thread) gives the measurement the front-end gives from the
 // frame alone; a frame that cannot be prepared is refused by name.
 TEST(ImageFrontend, AFramePreparedElsewhereGivesTheSameMeasurement) {
