@@ -14,11 +14,12 @@ namespace dslam {
 namespace {
 
 constexpr const char* kMapPointsHeader = "frame,object_id,x,y,z";
+constexpr int kDigits = 9;  // of every number written (decimals in the files written fixed)
 
 void Open(const std::string& path, const std::string& header, bool fixed, WholeLineFile* out) {
   out->open(path);
   if (!*out) throw std::runtime_error("cannot write " + path);
-  *out << std::setprecision(9);
+  *out << std::setprecision(kDigits);
   if (fixed) *out << std::fixed;
   if (!header.empty()) *out << header << '\n';
 }
@@ -107,7 +108,12 @@ void StreamingFileSink::pointFinal(const PointEstimate& p) {
 }
 
 void StreamingFileSink::putPoint(int frame, int object_id, const Vec3& p_world) {
-  points_ << frame << ',' << object_id << ',' << p_world.x() << ',' << p_world.y() << ',' << p_world.z() << '\n';
+  points_ << frame << ',' << object_id;
+  for (int a = 0; a < 3; ++a) {
+    points_ << ',';
+    PutGeneral(points_, p_world[a], kDigits);
+  }
+  points_ << '\n';
 }
 
 void StreamingFileSink::writeLandmarksSeenBefore(int frame) {
