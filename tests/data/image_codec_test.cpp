@@ -35,8 +35,8 @@ TEST(ImageCodec, PngRoundTripsEveryStoredLayoutExactly) {
   }
 }
 
-// Each stored row's first byte: the PNG filter it was predicted with (0: none).
-std::vector<int> RowFilters(const std::vector<uint8_t>& png, const cv::Mat& image) {
+// The stored rows, inflated: each a filter byte, then the row as the file holds it; empty if unreadable.
+std::vector<uint8_t> StoredRows(const std::vector<uint8_t>& png, const cv::Mat& image) {
   std::vector<uint8_t> idat;
   for (size_t at = 8; at + 12 <= png.size();) {
     const size_t length = (size_t{png[at]} << 24) | (size_t{png[at + 1]} << 16) | (size_t{png[at + 2]} << 8) | png[at + 3];
@@ -49,9 +49,35 @@ std::vector<int> RowFilters(const std::vector<uint8_t>& png, const cv::Mat& imag
   std::vector<uint8_t> raw(row_bytes * static_cast<size_t>(image.rows));
   uLongf raw_size = raw.size();
   if (uncompress(raw.data(), &raw_size, idat.data(), idat.size()) != Z_OK || raw_size != raw.size()) return {};
+  return raw;
+}
+
+// Each stored row's first byte: the PNG filter it was predicted with (0: none).
+std::vector<int> RowFilters(const std::vector<uint8_t>& png, const cv::Mat& image) {
+  const std::vector<uint8_t> raw = StoredRows(png, image);
+  if (raw.empty()) return {};
+  const size_t row_bytes = 1 + image.cols * image.elemSize();
   std::vector<int> filters;
   for (int v = 0; v < image.rows; ++v) filters.push_back(raw[row_bytes * static_cast<size_t>(v)]);
   return filters;
+}
+
+// PNG stores 16-bit samples most significant byte first, colour as RGB: checked on the stored bytes, so that
+// the encoder and decoder cannot agree on a wrong order.
+TEST(ImageCodec, SixteenBitSamplesAreStoredBigEndianAndDecodedInHostOrder) {
+  cv::Mat grey(1, 2, CV_16UC1);
+  grey.at<uint16_t>(0, 0) = 0x0102, grey.at<uint16_t>(0, 1) = 0xA0B0;
+  cv::Mat bgr(1, 1, CV_16UC3);
+  bgr.at<cv::Vec<uint16_t, 3>>(0, 0) = {0x0102, 0x0304, 0x0506};
+  const std::vector<std::pair<cv::Mat, std::vector<uint8_t>>> cases = {
+      {grey, {0, 0x01, 0x02, 0xA0, 0xB0}}, {bgr, {0, 0x05, 0x06, 0x03, 0x04, 0x01, 0x02}}};
+  for (const auto& [image, stored] : cases) {
+    const std::vector<uint8_t> png = EncodePng(image, 1, PngFilter::kNone);
+    EXPECT_EQ(StoredRows(png, image), stored);
+    const cv::Mat back = DecodePng(png, ImageDecode::kUnchanged);
+    ASSERT_EQ(back.type(), image.type());
+    EXPECT_EQ(MaxDifference(back, image), 0.0);
+  }
 }
 
 // kNone stores every row unpredicted; kAdaptive predicts a smooth image's rows (so the option is what acts).
