@@ -23,8 +23,10 @@ inline std::string FormatFixed(const std::optional<double>& value, int precision
 // its text (formatting them took 1.3 % of the demo run's CPU).
 inline void PutGeneral(std::ostream& out, double value, int digits) {
   char buffer[40];  // a sign, 17 digits, a point and a 4-digit exponent at most
-  if (digits < 1 || digits > 17) {
-    out << std::setprecision(digits) << value;
+  if (digits < 1 || digits > 17) {  // more digits than a double holds: the stream's own way, its precision kept
+    const std::streamsize kept = out.precision(digits);
+    out << value;
+    out.precision(kept);
     return;
   }
   const std::to_chars_result end = std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, digits);

@@ -34,6 +34,11 @@ TEST(TextFormat, PutGeneralWritesWhatTheStreamWrites) {
   for (int i = 0; i < 20000; ++i) values.push_back(mantissa(random) * std::pow(10.0, exponent(random)));
   for (const int digits : {1, 6, 9, 17, 25})
     for (const double v : values) ASSERT_EQ(ByPutGeneral(v, digits), ByStream(v, digits)) << v << " at " << digits;
+  std::ostringstream s;
+  s << std::setprecision(4);
+  PutGeneral(s, 1.0 / 3.0, 25);
+  s << ' ' << 1.0 / 3.0;
+  EXPECT_EQ(s.str().substr(s.str().find(' ')), " 0.3333");  // the stream's own precision is left as it was
 }
 
 }  // namespace
