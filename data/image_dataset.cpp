@@ -73,28 +73,34 @@ std::vector<std::string> Matching(const std::vector<std::string>& images, const 
 
 std::string Size(const cv::Mat& m) { return std::to_string(m.cols) + "x" + std::to_string(m.rows); }
 
-cv::Mat ReadImage(const std::string& path, ImageDecode mode, int64_t max_pixels) {
-  // The file is read once: its structure checked from the bytes, then the same bytes decoded.
-  const std::vector<uint8_t> bytes = ReadFileBytes(path);
+// A file's bytes, refused by name when missing, empty or a damaged, cut or oversized PNG (FindPngProblem).
+std::vector<uint8_t> ReadCheckedBytes(const std::string& path, int64_t max_pixels) {
+  std::vector<uint8_t> bytes = ReadFileBytes(path);
   if (bytes.empty()) throw std::runtime_error("cannot read image " + path + " (missing or empty)");
   if (const std::string problem = FindPngProblem(bytes, max_pixels); !problem.empty())
     throw std::runtime_error("cannot read image " + path + ": " + problem);
+  return bytes;
+}
+
+cv::Mat DecodeImage(const std::string& path, const std::vector<uint8_t>& bytes, ImageDecode mode) {
   std::string error;
   cv::Mat image = DecodePng(bytes, mode, &error);
   if (image.empty()) throw std::runtime_error("cannot read image " + path + ": " + error);
   return image;
 }
 
+cv::Mat ReadImage(const std::string& path, ImageDecode mode, int64_t max_pixels) {
+  // The file is read once: its structure checked from the bytes, then the same bytes decoded.
+  return DecodeImage(path, ReadCheckedBytes(path, max_pixels), mode);
+}
+
 // An image's width and height; a PNG's from its header (the file checked whole, as ReadImage checks it)
 // without decoding its pixels, which its frame's reading does anyway.
 cv::Size ReadImageSize(const std::string& path, int64_t max_pixels) {
-  const std::vector<uint8_t> bytes = ReadFileBytes(path);
-  if (bytes.empty()) throw std::runtime_error("cannot read image " + path + " (missing or empty)");
-  if (const std::string problem = FindPngProblem(bytes, max_pixels); !problem.empty())
-    throw std::runtime_error("cannot read image " + path + ": " + problem);
+  const std::vector<uint8_t> bytes = ReadCheckedBytes(path, max_pixels);
   if (const std::optional<PngSize> size = ReadPngSize(bytes))
     return cv::Size(static_cast<int>(size->width), static_cast<int>(size->height));
-  return ReadImage(path, ImageDecode::kUnchanged, max_pixels).size();
+  return DecodeImage(path, bytes, ImageDecode::kUnchanged).size();  // not a PNG: the decoder says why
 }
 
 }  // namespace
