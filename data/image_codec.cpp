@@ -1,4 +1,5 @@
 #include "data/image_codec.h"
+#include "data/png_check.h"
 
 #include <png.h>
 #include <turbojpeg.h>
@@ -121,9 +122,7 @@ bool DecodePngInto(const std::vector<uint8_t>& bytes, ImageDecode mode, cv::Mat*
 }  // namespace
 
 cv::Mat DecodePng(const std::vector<uint8_t>& bytes, ImageDecode mode, std::string* error) {
-  static constexpr uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (bytes.size() < sizeof(kSignature) || std::memcmp(bytes.data(), kSignature, sizeof(kSignature)) != 0)
-    return Fail(error, "not a PNG (no PNG signature)");
+  if (!HasPngSignature(bytes)) return Fail(error, "not a PNG (no PNG signature)");
   cv::Mat image;
   PngErrors errors;
   if (!DecodePngInto(bytes, mode, &image, &errors))

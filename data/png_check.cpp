@@ -12,24 +12,23 @@ uint32_t BigEndian32(const unsigned char* b) {
   return (uint32_t{b[0]} << 24) | (uint32_t{b[1]} << 16) | (uint32_t{b[2]} << 8) | uint32_t{b[3]};
 }
 
-constexpr std::array<unsigned char, 8> kSignature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+}  // namespace
 
-bool StartsWithSignature(const std::vector<unsigned char>& bytes) {
+bool HasPngSignature(const std::vector<unsigned char>& bytes) {
+  static constexpr std::array<unsigned char, 8> kSignature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   return bytes.size() >= kSignature.size() && std::equal(kSignature.begin(), kSignature.end(), bytes.begin());
 }
 
-}  // namespace
-
 std::optional<PngSize> ReadPngSize(const std::vector<unsigned char>& bytes) {
   // Signature, then the IHDR chunk's length (13) and type, then width and height.
-  if (!StartsWithSignature(bytes) || bytes.size() < 24) return std::nullopt;
+  if (!HasPngSignature(bytes) || bytes.size() < 24) return std::nullopt;
   const unsigned char* head = bytes.data() + 8;
   if (BigEndian32(head) != 13 || std::string(reinterpret_cast<const char*>(head + 4), 4) != "IHDR") return std::nullopt;
   return PngSize{BigEndian32(head + 8), BigEndian32(head + 12)};
 }
 
 std::string FindPngProblem(const std::vector<unsigned char>& bytes, int64_t max_pixels) {
-  if (!StartsWithSignature(bytes)) return {};
+  if (!HasPngSignature(bytes)) return {};
   const int64_t size = static_cast<int64_t>(bytes.size());
   int64_t at = 8;
   bool first = true;

@@ -17,6 +17,9 @@ namespace dslam {
 // "PNG chunk IDAT at byte 41 fails its checksum (damaged)".
 std::string FindPngProblem(const std::vector<unsigned char>& bytes, int64_t max_pixels);
 
+// Whether `bytes` start with the PNG signature.
+bool HasPngSignature(const std::vector<unsigned char>& bytes);
+
 // The image size a PNG's header gives, without decoding it; nullopt when `bytes` do not start with a PNG
 // signature and a whole IHDR header.
 struct PngSize {

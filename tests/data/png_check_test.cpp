@@ -51,6 +51,8 @@ TEST(PngCheck, TheSizeIsReadFromTheHeaderAlone) {
     EXPECT_EQ(size->height, 120);
   }
   EXPECT_FALSE(ReadPngSize(std::vector<unsigned char>(bytes.begin(), bytes.begin() + 23)));
+  EXPECT_TRUE(HasPngSignature(std::vector<unsigned char>(bytes.begin(), bytes.begin() + 8)));
+  EXPECT_FALSE(HasPngSignature(std::vector<unsigned char>(bytes.begin(), bytes.begin() + 7)));
   std::vector<unsigned char> not_ihdr = bytes;
   not_ihdr[12] = 'X';  // the first chunk's type
   EXPECT_FALSE(ReadPngSize(not_ihdr));
