@@ -1,5 +1,6 @@
 #include "data/image_codec.h"
 #include "data/png_check.h"
+#include "data/png_fast_decode.h"
 
 #include <png.h>
 #include <turbojpeg.h>
@@ -122,6 +123,12 @@ bool DecodePngInto(const std::vector<uint8_t>& bytes, ImageDecode mode, cv::Mat*
 }  // namespace
 
 cv::Mat DecodePng(const std::vector<uint8_t>& bytes, ImageDecode mode, std::string* error) {
+  cv::Mat image;
+  if (DecodeCommonPng(bytes, mode, &image)) return image;
+  return DecodePngByLibpng(bytes, mode, error);
+}
+
+cv::Mat DecodePngByLibpng(const std::vector<uint8_t>& bytes, ImageDecode mode, std::string* error) {
   if (!HasPngSignature(bytes)) return Fail(error, "not a PNG (no PNG signature)");
   cv::Mat image;
   PngErrors errors;

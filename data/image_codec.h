@@ -1,8 +1,8 @@
 #pragma once
-// PNG and JPEG to and from OpenCV images, through libpng and libjpeg-turbo. OpenCV's own codecs
-// (imgcodecs) load GDAL and ~110 other libraries into every process that links them, ~0.1 s of start-up
-// each time; these two libraries (the ones imgcodecs itself uses for these formats) are all dslam's
-// datasets, results and compressed DDS images need.
+// PNG and JPEG to and from OpenCV images, through libpng (libdeflate for the common PNGs) and libjpeg-turbo.
+// OpenCV's own codecs (imgcodecs) load GDAL and ~110 other libraries into every process that links them, ~0.1 s
+// of start-up each time; these libraries (imgcodecs itself uses the first and the last for these formats) are
+// all dslam's datasets, results and compressed DDS images need.
 // Pixel layouts are OpenCV's: colour is BGR(A), 16-bit samples in host order.
 
 #include <cstdint>
@@ -19,7 +19,10 @@ enum class ImageDecode {
 };
 
 // Empty image and *error set (when error is non-null) when the bytes are not a whole, decodable image.
+// DecodePng takes the common layouts by its own faster path (data/png_fast_decode.h) and every other PNG, or
+// one that path finds unusual, through libpng; DecodePngByLibpng is libpng alone (the tests compare the two).
 cv::Mat DecodePng(const std::vector<uint8_t>& bytes, ImageDecode mode, std::string* error = nullptr);
+cv::Mat DecodePngByLibpng(const std::vector<uint8_t>& bytes, ImageDecode mode, std::string* error = nullptr);
 cv::Mat DecodeJpeg(const std::vector<uint8_t>& bytes, ImageDecode mode, std::string* error = nullptr);
 
 // How rows are predicted before compression. kAdaptive: libpng picks one of PNG's five filters per row (best for

@@ -1,19 +1,11 @@
 #include "data/png_check.h"
 
-#include <zlib.h>
+#include <libdeflate.h>
 
 #include <algorithm>
 #include <array>
 
 namespace dslam {
-namespace {
-
-uint32_t BigEndian32(const unsigned char* b) {
-  return (uint32_t{b[0]} << 24) | (uint32_t{b[1]} << 16) | (uint32_t{b[2]} << 8) | uint32_t{b[3]};
-}
-
-}  // namespace
-
 bool HasPngSignature(const std::vector<unsigned char>& bytes) {
   static constexpr std::array<unsigned char, 8> kSignature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   return bytes.size() >= kSignature.size() && std::equal(kSignature.begin(), kSignature.end(), bytes.begin());
@@ -23,8 +15,9 @@ std::optional<PngSize> ReadPngSize(const std::vector<unsigned char>& bytes) {
   // Signature, then the IHDR chunk's length (13) and type, then width and height.
   if (!HasPngSignature(bytes) || bytes.size() < 24) return std::nullopt;
   const unsigned char* head = bytes.data() + 8;
-  if (BigEndian32(head) != 13 || std::string(reinterpret_cast<const char*>(head + 4), 4) != "IHDR") return std::nullopt;
-  return PngSize{BigEndian32(head + 8), BigEndian32(head + 12)};
+  if (PngBigEndian32(head) != 13 || std::string(reinterpret_cast<const char*>(head + 4), 4) != "IHDR")
+    return std::nullopt;
+  return PngSize{PngBigEndian32(head + 8), PngBigEndian32(head + 12)};
 }
 
 std::string FindPngProblem(const std::vector<unsigned char>& bytes, int64_t max_pixels) {
@@ -36,12 +29,12 @@ std::string FindPngProblem(const std::vector<unsigned char>& bytes, int64_t max_
     if (at + 8 > size)
       return "PNG cut off after byte " + std::to_string(at) + " of " + std::to_string(size) + " (no IEND chunk)";
     const unsigned char* head = bytes.data() + at;  // length, type
-    const uint32_t length = BigEndian32(head);
+    const uint32_t length = PngBigEndian32(head);
     const std::string type(reinterpret_cast<const char*>(head + 4), 4);
     if (first) {
       if (type != "IHDR" || length != 13) return "PNG does not start with its IHDR header";
       if (at + 16 > size) return "PNG cut off in its IHDR header";
-      const int64_t width = BigEndian32(head + 8), height = BigEndian32(head + 12);
+      const int64_t width = PngBigEndian32(head + 8), height = PngBigEndian32(head + 12);
       if (width == 0 || height == 0) return "PNG of " + std::to_string(width) + "x" + std::to_string(height) + " pixels";
       if (width * height > max_pixels)
         return "PNG of " + std::to_string(width) + "x" + std::to_string(height) + " pixels, more than the " +
@@ -53,8 +46,8 @@ std::string FindPngProblem(const std::vector<unsigned char>& bytes, int64_t max_
       return "PNG cut off in chunk " + type + " at byte " + std::to_string(size) + " (the chunk ends at byte " +
              std::to_string(end) + ")";
     // The CRC covers the chunk's type and data.
-    const uLong crc = crc32(crc32(0L, Z_NULL, 0), head + 4, static_cast<uInt>(4 + length));
-    if (crc != BigEndian32(bytes.data() + end - 4))
+    const uint32_t crc = libdeflate_crc32(0, head + 4, 4 + size_t{length});
+    if (crc != PngBigEndian32(bytes.data() + end - 4))
       return "PNG chunk " + type + " at byte " + std::to_string(at) + " fails its checksum (damaged)";
     if (type == "IEND") return {};
     at = end;

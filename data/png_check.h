@@ -17,6 +17,11 @@ namespace dslam {
 // "PNG chunk IDAT at byte 41 fails its checksum (damaged)".
 std::string FindPngProblem(const std::vector<unsigned char>& bytes, int64_t max_pixels);
 
+// The big-endian 32-bit number at `bytes` (PNG's lengths, sizes and checksums).
+inline uint32_t PngBigEndian32(const unsigned char* bytes) {
+  return (uint32_t{bytes[0]} << 24) | (uint32_t{bytes[1]} << 16) | (uint32_t{bytes[2]} << 8) | uint32_t{bytes[3]};
+}
+
 // Whether `bytes` start with the PNG signature.
 bool HasPngSignature(const std::vector<unsigned char>& bytes);
 
