@@ -17,6 +17,11 @@ bool IsChunkType(const uint8_t* type, const char* name) { return std::memcmp(typ
 
 bool IsLetter(uint8_t c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'); }
 
+// Deflate's largest expansion of a compressed byte, and the most inflated rows a thread keeps between images
+// (a 4096x4096 RGBA frame).
+constexpr size_t kDeflateMaxExpansion = 1032;
+constexpr size_t kRowsKeptBytes = size_t{4096} * (1 + 4096 * 4);
+
 // libpng refuses a width or height above this unless told otherwise (PNG_USER_WIDTH_MAX, PNG_USER_HEIGHT_MAX).
 constexpr uint32_t kLibpngSideLimit = 1'000'000;
 
@@ -128,9 +133,19 @@ bool DecodeCommonPng(const std::vector<uint8_t>& bytes, ImageDecode mode, cv::Ma
 
   const size_t row_bytes = size_t{layout.width} * static_cast<size_t>(layout.channels * layout.bit_depth / 8);
   const size_t rows_size = (1 + row_bytes) * layout.height;
+  // Deflate expands a byte to at most 1032 bytes (a 258-byte match in as little as two bits): a header that claims
+  // more rows than its data could hold is damaged, and nothing that size is allocated for it.
+  if (rows_size / kDeflateMaxExpansion > compressed_size + 1) return false;
   if (!scratch.inflater) scratch.inflater.reset(libdeflate_alloc_decompressor());
   if (!scratch.inflater) return false;
   if (scratch.rows.size() < rows_size) scratch.rows.resize(rows_size);
+  // A stream's frames keep their rows between images; one outsized image does not keep its own.
+  struct ReleaseOutsized {
+    std::vector<uint8_t>* rows;
+    ~ReleaseOutsized() {
+      if (rows->size() > kRowsKeptBytes) std::vector<uint8_t>().swap(*rows);
+    }
+  } release{&scratch.rows};
   size_t read = 0, written = 0;
   if (libdeflate_zlib_decompress_ex(scratch.inflater.get(), compressed, compressed_size, scratch.rows.data(),
                                     rows_size, &read, &written) != LIBDEFLATE_SUCCESS ||

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -143,10 +144,54 @@ TEST(PngFastDecode, LeavesOtherLayoutsAndAnythingUnusualToLibpng) {
     EXPECT_EQ(decoded.empty(), by_libpng.empty()) << what;
     if (!decoded.empty()) ExpectSameImage(decoded, by_libpng, what);
   }
+  // A header far larger than its data could fill (deflate expands a byte to at most 1032): refused before the
+  // rows are allocated (30 GB here; libpng would try, so only the path is asked).
+  cv::Mat outsized;
+  EXPECT_FALSE(DecodeCommonPng(AssemblePng({PngHeader(100000, 100000, 8, 2), idat, end}), ImageDecode::kUnchanged, &outsized));
   // The sound file itself is taken: the cases above fail for what they change.
   cv::Mat fast;
   EXPECT_TRUE(DecodeCommonPng(sound, ImageDecode::kUnchanged, &fast));
   EXPECT_TRUE(DecodeCommonPng(AssemblePng({header, first_half, second_half, end}), ImageDecode::kUnchanged, &fast));
+}
+
+// Damage of every kind, the checksums made good again so that it reaches the decoders: whatever the path takes,
+// libpng decodes to the same pixels, and nothing the path leaves changes DecodePng's answer from libpng's.
+TEST(PngFastDecode, DamagedFilesWithGoodChecksumsDecodeAsLibpngDecodesThem) {
+  std::mt19937 random(11);
+  const std::vector<Layout> layouts = {{8, 0, 1}, {8, 2, 3}, {8, 6, 4}, {16, 0, 1}};
+  int taken = 0, left = 0;
+  for (int trial = 0; trial < 1000; ++trial) {
+    const Layout& layout = layouts[static_cast<size_t>(trial) % layouts.size()];
+    std::vector<uint8_t> png = MakePng(layout, 9 + trial % 23, 5 + trial % 17, 40 + trial % 200, static_cast<unsigned>(trial));
+    // Change 1-3 bytes after the signature (any chunk: lengths, types, header fields, image data).
+    const int changes = 1 + static_cast<int>(random() % 3);
+    for (int c = 0; c < changes; ++c) png[8 + random() % (png.size() - 8)] ^= static_cast<uint8_t>(1 + random() % 255);
+    // Make each chunk's checksum good again, where its length still fits.
+    for (size_t at = 8; at + 12 <= png.size();) {
+      const size_t length = (size_t{png[at]} << 24) | (size_t{png[at + 1]} << 16) | (size_t{png[at + 2]} << 8) | png[at + 3];
+      if (length > png.size() - at - 12) break;
+      const uint32_t crc = libdeflate_crc32(0, png.data() + at + 4, 4 + length);
+      for (int k = 0; k < 4; ++k) png[at + 8 + length + static_cast<size_t>(k)] = static_cast<uint8_t>(crc >> (24 - 8 * k));
+      at += 12 + length;
+    }
+    const ImageDecode mode = trial % 2 == 0 ? ImageDecode::kUnchanged : ImageDecode::kColour;
+    std::string error, libpng_error;
+    const cv::Mat by_libpng = DecodePngByLibpng(png, mode, &libpng_error);
+    cv::Mat fast;
+    if (DecodeCommonPng(png, mode, &fast)) {
+      ++taken;
+      ASSERT_FALSE(by_libpng.empty()) << "trial " << trial << ": the path decoded what libpng refuses: " << libpng_error;
+      ExpectSameImage(fast, by_libpng, "trial " + std::to_string(trial));
+    } else {
+      ++left;
+      const cv::Mat decoded = DecodePng(png, mode, &error);
+      EXPECT_EQ(error, libpng_error) << "trial " << trial;
+      EXPECT_EQ(decoded.empty(), by_libpng.empty()) << "trial " << trial;
+    }
+  }
+  // Both sides were exercised: many changes leave a file the path still takes (a text chunk, an image byte).
+  EXPECT_GT(taken, 10);
+  EXPECT_GT(left, 100);
 }
 
 }  // namespace
