@@ -6,6 +6,7 @@
 #include <array>
 
 namespace dslam {
+
 bool HasPngSignature(const std::vector<unsigned char>& bytes) {
   static constexpr std::array<unsigned char, 8> kSignature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   return bytes.size() >= kSignature.size() && std::equal(kSignature.begin(), kSignature.end(), bytes.begin());

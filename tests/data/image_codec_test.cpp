@@ -48,7 +48,8 @@ std::vector<uint8_t> StoredRows(const std::vector<uint8_t>& png, const cv::Mat& 
   const size_t row_bytes = 1 + image.cols * image.elemSize();
   std::vector<uint8_t> raw(row_bytes * static_cast<size_t>(image.rows));
   libdeflate_decompressor* inflater = libdeflate_alloc_decompressor();
-  const libdeflate_result result = libdeflate_zlib_decompress(inflater, idat.data(), idat.size(), raw.data(), raw.size(), nullptr);
+  const libdeflate_result result =
+      libdeflate_zlib_decompress(inflater, idat.data(), idat.size(), raw.data(), raw.size(), nullptr);
   libdeflate_free_decompressor(inflater);
   if (result != LIBDEFLATE_SUCCESS) return {};
   return raw;
