@@ -189,8 +189,8 @@ TEST(PngFastDecode, DamagedFilesWithGoodChecksumsDecodeAsLibpngDecodesThem) {
       EXPECT_EQ(decoded.empty(), by_libpng.empty()) << "trial " << trial;
     }
   }
-  // Both sides were exercised: some changes leave a file the path still takes (in a text chunk, or an image byte
-  // whose stream still inflates to the right size with the right checksum).
+  // Both sides were exercised: some changes leave a file the path still takes (in the text chunk, or in a checksum
+  // that is made good again).
   EXPECT_GT(taken, 10);
   EXPECT_GT(left, 100);
 }
