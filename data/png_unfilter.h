@@ -3,7 +3,7 @@
 // predicted from the pixel to the left (a), the one above (b) and the one above-left (c). The prediction of one
 // pixel needs its left neighbour already undone, so a row is undone pixel by pixel; for Sub, Average and Paeth
 // a pixel's 3 to 8 bytes are done together in one SIMD register (SSE2), where libpng as Debian builds it goes byte
-// by byte: a demo colour image's rows are undone in 1.65 ms instead of 3.3.
+// by byte: a demo colour image's rows are undone in 1.65 ms instead of 3.3 byte by byte (best of 41).
 
 #include <cstddef>
 #include <cstdint>
