@@ -4,7 +4,9 @@
 #include <cstring>
 #include <vector>
 
-#if defined(__SSE2__)
+// SSE2 on x86-64 (_mm_cvtsi64_si128 needs 64-bit registers); elsewhere every row goes byte by byte.
+#if defined(__SSE2__) && defined(__x86_64__)
+#define DSLAM_PNG_UNFILTER_SSE2 1
 #include <emmintrin.h>
 #endif
 
@@ -39,10 +41,10 @@ void UnfilterRowScalar(uint8_t filter, uint8_t* row, const uint8_t* up, size_t n
   }
 }
 
-#if defined(__SSE2__)
+#if defined(DSLAM_PNG_UNFILTER_SSE2)
 // A pixel of kBpp (3, 4, 6 or 8) bytes in the low bytes of a register (x86 is little-endian), assembled in a
-// general register from loads of 1, 2, 4 or 8 bytes: a copy through memory would store the bytes one way and load them another,
-// which the processor cannot forward (a stall of a dozen cycles a pixel).
+// general register from loads of 1, 2, 4 or 8 bytes: a copy through memory would store the bytes one way and
+// load them another, which the processor cannot forward (a stall of a dozen cycles a pixel).
 template <int kBpp>
 __m128i LoadPixel(const uint8_t* p) {
   uint64_t v = 0;
@@ -162,7 +164,7 @@ bool UnfilterPngRows(uint8_t* rows, size_t row_bytes, size_t rows_count, int byt
     if (filter == kFilterUp) {
       for (size_t i = 0; i < row_bytes; ++i) row[i] = static_cast<uint8_t>(row[i] + up[i]);  // vectorised
     } else if (filter != kFilterNone) {
-#if defined(__SSE2__)
+#if defined(DSLAM_PNG_UNFILTER_SSE2)
       if (simd) UnfilterRowSimd(filter, row, up, row_bytes, bpp);
       else UnfilterRowScalar(filter, row, up, row_bytes, bpp);
 #else
