@@ -138,22 +138,17 @@ bool DecodeCommonPng(const std::vector<uint8_t>& bytes, ImageDecode mode, cv::Ma
   if (rows_size / kDeflateMaxExpansion > compressed_size + 1) return false;
   if (!scratch.inflater) scratch.inflater.reset(libdeflate_alloc_decompressor());
   if (!scratch.inflater) return false;
-  if (scratch.rows.size() < rows_size) scratch.rows.resize(rows_size);
   // A stream's frames keep their rows between images; one outsized image does not keep its own.
-  struct ReleaseOutsized {
-    std::vector<uint8_t>* rows;
-    ~ReleaseOutsized() {
-      if (rows->size() > kRowsKeptBytes) std::vector<uint8_t>().swap(*rows);
-    }
-  } release{&scratch.rows};
+  std::vector<uint8_t> outsized;
+  std::vector<uint8_t>& rows = rows_size > kRowsKeptBytes ? outsized : scratch.rows;
+  if (rows.size() < rows_size) rows.resize(rows_size);
   size_t read = 0, written = 0;
-  if (libdeflate_zlib_decompress_ex(scratch.inflater.get(), compressed, compressed_size, scratch.rows.data(),
-                                    rows_size, &read, &written) != LIBDEFLATE_SUCCESS ||
+  if (libdeflate_zlib_decompress_ex(scratch.inflater.get(), compressed, compressed_size, rows.data(), rows_size,
+                                    &read, &written) != LIBDEFLATE_SUCCESS ||
       read != compressed_size || written != rows_size)
     return false;
-  if (!UnfilterPngRows(scratch.rows.data(), row_bytes, layout.height, layout.channels * layout.bit_depth / 8))
-    return false;
-  RowsToImage(layout, mode, scratch.rows.data(), image);
+  if (!UnfilterPngRows(rows.data(), row_bytes, layout.height, layout.channels * layout.bit_depth / 8)) return false;
+  RowsToImage(layout, mode, rows.data(), image);
   return true;
 }
 
