@@ -48,7 +48,9 @@ int main(int argc, char** argv) {
   dir = dslam::bench::DatasetOrRenderedCity(dir, max_frames, "dslam_bench_frontend_city");
   if (dir.empty()) return 1;
   cv::setNumThreads(1);  // the target is for one core
-  const dslam::RunConfig base = argc > 3 && *argv[3] ? dslam::LoadRunConfig(argv[3]) : dslam::RunConfig{};
+  // dslam run's defaults (smoothed, window:10), then the file's keys over them, as dslam run layers them.
+  const dslam::RunConfig run_defaults = dslam::DefaultRunConfig(dslam::EntryPoint::kRun);
+  const dslam::RunConfig base = argc > 3 && *argv[3] ? dslam::LoadRunConfig(argv[3], run_defaults) : run_defaults;
   const int backend_runs = argc > 4 ? std::atoi(argv[4]) : 1;
   if (backend_runs < 1) {
     std::cerr << "backend_runs must be at least 1\n";
@@ -110,9 +112,6 @@ int main(int argc, char** argv) {
                   i + 1 < std::size(names) ? "," : "\n");
   }
 
-  const dslam::RunDefaults run_defaults = dslam::DefaultsOf(dslam::EntryPoint::kRun);  // smoothed, window:10
-  config.backend.default_mode = run_defaults.mode;
-  config.backend.schedule = run_defaults.schedule;
   // Per frame, as dslam run's back-end stage does it (pipeline/online_backend.h): label the frame with the
   // scene-flow classifier, add it (build, marginalise, solve) and read its online estimate.
   std::vector<double> backend_ms;
@@ -129,7 +128,7 @@ int main(int argc, char** argv) {
   }
   std::printf("back-end (ours, %s, %s, classifier included) on the lk measurements, %d run(s): mean %.1f, median %.1f, "
               "p99 %.1f ms per frame\n",
-              dslam::ToString(run_defaults.mode).c_str(), dslam::ToString(run_defaults.schedule).c_str(), backend_runs,
+              dslam::ToString(config.backend.default_mode).c_str(), dslam::ToString(config.backend.schedule).c_str(), backend_runs,
               total_ms / backend_ms.size(), Percentile(backend_ms, 0.5), Percentile(backend_ms, 0.99));
   return 0;
 }
