@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <iostream>
 #include <map>
 #include <string>
@@ -79,7 +80,7 @@ dslam::Estimate FixedLagReference(const dslam::BackendParams& window_params, dou
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int Run(int argc, char** argv) {
   const std::string scenario = argc > 1 ? argv[1] : "paper";
   const int seeds = argc > 2 ? std::atoi(argv[2]) : 5;
   const int num_frames = argc > 3 ? std::atoi(argv[3]) : 0;
@@ -89,7 +90,7 @@ int main(int argc, char** argv) {
   }
   dslam::RunConfig config = dslam::DefaultRunConfig(dslam::EntryPoint::kSim, scenario);
   dslam::BackendParams window = config.backend;
-  window.schedule = dslam::ParseSchedule("window:10");
+  window.schedule = dslam::DefaultRunConfig(dslam::EntryPoint::kRun).backend.schedule;  // window:10, as dslam run
   dslam::BackendParams batch = config.backend;
   batch.schedule.kind = dslam::ScheduleKind::kBatch;
   std::printf("%s, ours (%s), window:%d against an exact fixed lag of the same length and the batch\n",
@@ -111,7 +112,8 @@ int main(int argc, char** argv) {
     for (int i = 0; i < 3; ++i) {
       const Figures f = FiguresOf(seq, *estimates[i]);
       all[i].push_back(f);
-      std::printf("%-6d %-10s %10.4f %10.3f %10.3f %10.3f\n", seed, names[i], f.ate_m, f.rte_pct, f.omte_pct, f.omse_pct);
+      std::printf("%-6d %-10s %10.4f %10.3f %10.3f %10.3f\n", seed, names[i], f.ate_m, f.rte_pct, f.omte_pct,
+                  f.omse_pct);
       std::fflush(stdout);
     }
   }
@@ -129,4 +131,13 @@ int main(int argc, char** argv) {
                 rms(all[i], &Figures::omte_pct) / rms(all[2], &Figures::omte_pct),
                 rms(all[i], &Figures::omse_pct) / rms(all[2], &Figures::omse_pct));
   return 0;
+}
+
+int main(int argc, char** argv) {
+  try {
+    return Run(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "bench_fixed_lag_reference: " << e.what() << "\n";
+    return 1;
+  }
 }

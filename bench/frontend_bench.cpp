@@ -128,7 +128,8 @@ int main(int argc, char** argv) {
   }
   std::printf("back-end (ours, %s, %s, classifier included) on the lk measurements, %d run(s): mean %.1f, median %.1f, "
               "p99 %.1f ms per frame\n",
-              dslam::ToString(config.backend.default_mode).c_str(), dslam::ToString(config.backend.schedule).c_str(), backend_runs,
+              dslam::ToString(config.backend.default_mode).c_str(), dslam::ToString(config.backend.schedule).c_str(),
+              backend_runs,
               total_ms / backend_ms.size(), Percentile(backend_ms, 0.5), Percentile(backend_ms, 0.99));
   return 0;
 }
