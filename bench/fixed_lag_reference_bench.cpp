@@ -6,8 +6,8 @@
 // bench computes that reference (one batch solve per prefix, so slow: a reference, not an estimator) and
 // prints it beside ours' window and ours' batch. Motions of objects with a motion per frame are read the
 // same way, from the prefix their object window ends with (frames 0..j+L-1 for the motion into j); an
-// object's one motion for its whole track (constant mode) and the points are the whole batch's, as the
-// window reports them when the track ends. The gap between the reference and the window is what the
+// object's one motion for its whole track (constant mode) is the whole batch's, as the window reports it
+// when the track ends (the points are the whole batch's too; their error is not printed). The gap between the reference and the window is what the
 // window's sparsified marginalisation costs; the gap between the reference and the batch is what any
 // fixed lag costs.
 //
@@ -61,7 +61,7 @@ dslam::Estimate FixedLagReference(const dslam::BackendParams& window_params, dou
   std::map<std::pair<int, int>, size_t> motion_index;  // (object, frame) -> index in reference.object_motions
   for (size_t i = 0; i < reference.object_motions.size(); ++i)
     motion_index[{reference.object_motions[i].object_id, reference.object_motions[i].frame}] = i;
-  for (int last = std::min(L, W) - 1; last < n - 1; ++last) {
+  for (int last = L - 1; last < n - 1; ++last) {
     const std::vector<dslam::FrameMeasurement> prefix(frames.begin(), frames.begin() + last + 1);
     const dslam::Estimate e = dslam::RunMethod(dslam::Method::kOurs, batch, rate_hz, prefix).estimate;
     const int camera = last - W + 1;
