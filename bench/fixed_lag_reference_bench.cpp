@@ -1,15 +1,15 @@
 // How far ours' sliding window is from an exact fixed-lag smoother, measured on a simulated scenario.
 //
-// A fixed-lag smoother of W frames makes camera m final from the measurements of frames 0..m+W-1 (the
-// window's last solve that holds it). The best any such smoother can do, whatever its marginalisation,
-// is the optimum of all those measurements: the batch solve of the prefix 0..m+W-1, read at camera m. This
-// bench computes that reference (one batch solve per prefix, so slow: a reference, not an estimator) and
-// prints it beside ours' window and ours' batch. Motions of objects with a motion per frame are read the
-// same way, from the prefix their object window ends with (frames 0..j+L-1 for the motion into j); an
-// object's one motion for its whole track (constant mode) is the whole batch's, as the window reports it
-// when the track ends (the points are the whole batch's too; their error is not printed). The gap between the reference and the window is what the
-// window's sparsified marginalisation costs; the gap between the reference and the batch is what any
-// fixed lag costs.
+// A fixed-lag smoother of W frames makes camera m final from the measurements of frames 0..m+W-1 (the window's
+// last solve that holds it). The best any such smoother can do, whatever its marginalisation, is the optimum of
+// all those measurements: the batch solve of the prefix 0..m+W-1, read at camera m. This bench computes that
+// reference (one batch solve per prefix, so slow: a reference, not an estimator) and prints it beside ours'
+// window and ours' batch. Motions of objects with a motion per frame are read the same way, from the prefix
+// their object window ends with (frames 0..j+L-1 for the motion into j); an object's one motion for its whole
+// track (constant mode) is the whole batch's, as the window reports it when the track ends (the points are the
+// whole batch's too; their error is not printed). The gap between the reference and the window is what the
+// window's sparsified marginalisation costs; the gap between the reference and the batch is what any fixed lag
+// costs.
 //
 // Usage: bench_fixed_lag_reference [scenario=paper] [seeds=5] [frames=0: the scenario's length]
 // Prints, per seed and as RMS over the seeds, ours' camera ATE and RTE and object OMTE and OMSE.
@@ -50,13 +50,12 @@ Figures FiguresOf(const dslam::Sequence& seq, const dslam::Estimate& estimate) {
 
 // The reference: camera m from the batch over frames 0..m+W-1, a per-frame motion into j from the batch over
 // 0..j+L-1, the rest from the batch over everything.
-dslam::Estimate FixedLagReference(const dslam::BackendParams& window_params, double rate_hz,
-                                  const std::vector<dslam::FrameMeasurement>& frames, const dslam::Estimate& full) {
+dslam::Estimate FixedLagReference(const dslam::BackendParams& window_params, const dslam::BackendParams& batch,
+                                  double rate_hz, const std::vector<dslam::FrameMeasurement>& frames,
+                                  const dslam::Estimate& full) {
   const int n = static_cast<int>(frames.size());
   const int W = window_params.schedule.window_frames;
   const int L = std::min(window_params.object_window_frames, W);
-  dslam::BackendParams batch = window_params;
-  batch.schedule.kind = dslam::ScheduleKind::kBatch;
   dslam::Estimate reference = full;
   std::map<std::pair<int, int>, size_t> motion_index;  // (object, frame) -> index in reference.object_motions
   for (size_t i = 0; i < reference.object_motions.size(); ++i)
@@ -107,7 +106,7 @@ static int Run(int argc, char** argv) {
     dslam::LabelDynamicObjects(config.classifier, seq.frame_rate_hz, &frames);
     const dslam::Estimate full = dslam::RunMethod(dslam::Method::kOurs, batch, seq.frame_rate_hz, frames).estimate;
     const dslam::Estimate windowed = dslam::RunMethod(dslam::Method::kOurs, window, seq.frame_rate_hz, frames).estimate;
-    const dslam::Estimate reference = FixedLagReference(window, seq.frame_rate_hz, frames, full);
+    const dslam::Estimate reference = FixedLagReference(window, batch, seq.frame_rate_hz, frames, full);
     const dslam::Estimate* estimates[] = {&windowed, &reference, &full};
     for (int i = 0; i < 3; ++i) {
       const Figures f = FiguresOf(seq, *estimates[i]);
