@@ -81,6 +81,15 @@ Schedule ParseSchedule(const std::string& text) {
   schedule.window_frames = w;
   return schedule;
 }
+Marginalisation ParseMarginalisation(const std::string& text) {
+  if (text == "sparsified") return Marginalisation::kSparsified;
+  if (text == "exact") return Marginalisation::kExact;
+  throw std::invalid_argument("unknown marginalisation '" + text + "' (expected sparsified or exact)");
+}
+
+std::string ToString(Marginalisation marginalisation) {
+  return marginalisation == Marginalisation::kExact ? "exact" : "sparsified";
+}
 
 LinearSolver ParseLinearSolver(const std::string& text) {
   if (text == "cholesky") return LinearSolver::kCholesky;

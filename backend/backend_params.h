@@ -22,6 +22,12 @@ struct Schedule {
   int window_frames = 10;  // W, for the sliding window
 };
 
+// How the sliding window lets a frame go (backend/marginalisation.h, backend/exact_marginalisation.h).
+enum class Marginalisation {
+  kSparsified,  // per variable type, cameras held: the graph's structure and the solver's cost unchanged
+  kExact,       // one Schur complement into a dense prior, first-estimate Jacobians; solved by Ceres
+};
+
 // How the normal equations are solved; both eliminate the points before poses and motions.
 enum class LinearSolver { kCholesky, kSchur };
 
@@ -67,6 +73,11 @@ struct BackendParams {
   // 0.635 (batch 0.400), seed 1, window 10: the held landmark priors are overconfident, and only the
   // camera held at its estimate matches them. To turn on when the landmarks leave exactly too.
   bool camera_prior_by_schur = false;
+  // Window: how a leaving frame's variables are eliminated. kExact keeps all their information (and its
+  // correlations) in one dense prior and solves the window with Ceres over one window of W frames for
+  // every variable (object_window_frames, landmark_history_frames and camera_prior_by_schur do not apply);
+  // it costs several times the sparsified window's time (docs/results.md, "The exact fixed lag").
+  Marginalisation marginalisation = Marginalisation::kSparsified;
   int max_iterations_batch = 50;
   int max_iterations_window = 10;
   // Relative cost decrease below which a window solve stops. Each window starts from the previous
@@ -93,6 +104,8 @@ std::string ToString(MotionMode mode);
 // "batch" or "window:W".
 Schedule ParseSchedule(const std::string& text);
 std::string ToString(const Schedule& schedule);
+Marginalisation ParseMarginalisation(const std::string& text);  // "sparsified" or "exact"
+std::string ToString(Marginalisation marginalisation);
 LinearSolver ParseLinearSolver(const std::string& text);  // "cholesky" or "schur"
 std::string ToString(LinearSolver solver);
 

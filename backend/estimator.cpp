@@ -5,6 +5,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "backend/exact_marginalisation.h"
 #include "backend/factors/pose_block.h"
 #include "backend/graph_solver.h"
 #include "backend/marginalisation.h"
@@ -32,6 +33,11 @@ void Estimator::addFrame(const FrameMeasurement& frame) {
 
   const auto start = std::chrono::steady_clock::now();
   const int window = params_.schedule.window_frames;
+  if (params_.marginalisation == Marginalisation::kExact) {
+    stepExact(k);
+    recordSolve(start);
+    return;
+  }
   const int object_window = std::min(params_.object_window_frames, window);
   if (object_window == window) {
     if (k - window >= 0) MarginaliseObjectFrame(params_, frame_rate_hz_, k - window, &graph_, sink_);
@@ -57,13 +63,42 @@ void Estimator::addFrame(const FrameMeasurement& frame) {
   UpdateSmoothnessScales(params_, solve.first_frame, solve.last_frame, &graph_);
   const WindowSolveSummary summary = SolveWindow(params_, solve, &graph_);
   for (const CameraStepCovariance& c : summary.camera_step_covariances) camera_step_covariance_[c.frame] = c.covariance;
+  last_residual_blocks_ = summary.num_residual_blocks;
+  last_iterations_ = summary.num_iterations;
+  recordSolve(start);
+}
+
+// The exact fixed lag: the leaving frame is eliminated into the dense prior, and the window, prior
+// included, is solved by Ceres (backend/exact_marginalisation.h). One window of W frames for every
+// variable.
+void Estimator::stepExact(int k) {
+  const int window = params_.schedule.window_frames;
+  const bool fix_cameras = static_cast<bool>(options_.fixed_T_world_camera);
+  if (k - window >= 0) {
+    MarginaliseFrameExactly(params_, frame_rate_hz_, k - window, fix_cameras, &graph_, sink_);
+    cameras_final_ = k - window + 1;
+  }
+  SolveOptions solve;
+  solve.first_frame = std::max(0, k - window + 1);
+  solve.last_frame = k;
+  solve.max_iterations = params_.max_iterations_window;
+  solve.function_tolerance = params_.window_function_tolerance;
+  solve.num_threads = params_.num_threads;
+  solve.fix_cameras = fix_cameras;
+  UpdateSmoothnessScales(params_, solve.first_frame, solve.last_frame, &graph_);
+  const SolveSummary summary = SolveGraph(params_, solve, &graph_);
+  last_residual_blocks_ = summary.num_residual_blocks;
+  last_iterations_ = summary.num_iterations;
+}
+
+void Estimator::recordSolve(std::chrono::steady_clock::time_point start) {
   if (!options_.keep_solve_history) {
     solve_residual_blocks_.clear();
     solve_iterations_.clear();
     solve_times_ms_.clear();
   }
-  solve_residual_blocks_.push_back(summary.num_residual_blocks);
-  solve_iterations_.push_back(summary.num_iterations);
+  solve_residual_blocks_.push_back(last_residual_blocks_);
+  solve_iterations_.push_back(last_iterations_);
   solve_times_ms_.push_back(
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
 }

@@ -4,8 +4,11 @@
 //  - window:W, the fixed-lag smoother: after every frame the last W frames are solved
 //    (backend/window_solver.h) and what leaves the window is marginalised into priors
 //    (backend/marginalisation.h) and handed to the result sink as final. Its per-frame cost and its
-//    memory are bounded by the window, not by the sequence.
+//    memory are bounded by the window, not by the sequence. With BackendParams::marginalisation exact,
+//    what leaves is eliminated exactly into one dense prior (backend/exact_marginalisation.h) and the
+//    window is solved by Ceres.
 
+#include <chrono>
 #include <functional>
 #include <map>
 #include <vector>
@@ -59,6 +62,8 @@ class Estimator {
   const GraphBuilder& builder() const { return builder_; }
 
  private:
+  void stepExact(int k);  // the sliding window with exact marginalisation, after frame k was added
+  void recordSolve(std::chrono::steady_clock::time_point start);  // the last solve's statistics
   void flush();  // hands everything still in the graph to the sink
   void batchCovariances();
   void handStepCovariance(int frame);  // to the sink, before the camera itself
@@ -76,6 +81,8 @@ class Estimator {
   std::vector<double> solve_times_ms_;
   std::vector<int> solve_residual_blocks_;
   std::vector<int> solve_iterations_;
+  int last_residual_blocks_ = 0;
+  int last_iterations_ = 0;
 };
 
 }  // namespace dslam

@@ -157,6 +157,33 @@ struct CameraPrior {
   Vec6 residual(const double* camera) const { return r0 + R * PoseBlockMinus(camera, camera_lin.data()); }
 };
 
+// Keys of the graph's variables in linear factors (backend/linear_elimination.h) and in the exact
+// smoother's prior: a camera by its frame, a point or a motion by its variable id.
+enum class VariableKind { kCamera = 0, kPoint = 1, kMotion = 2 };
+inline int VariableKey(VariableKind kind, int id) { return 3 * id + static_cast<int>(kind); }
+inline VariableKind KindOfKey(int key) { return static_cast<VariableKind>(key % 3); }
+inline int IdOfKey(int key) { return key / 3; }
+inline int TangentDimOfKey(int key) { return KindOfKey(key) == VariableKind::kPoint ? 3 : 6; }
+
+// What the frames that left the exact fixed-lag smoother's window say about the variables still in it
+// (backend/exact_marginalisation.h): whitened rows r = r0 + R [x_1 (-) lin_1; x_2 (-) lin_2; ...] over
+// `keys`, in that order (a camera or a motion 6 columns, [dt; phi] as the solvers' tangent; a point 3).
+// Each variable keeps its linearisation point while it is in the prior (first-estimate Jacobians): R is
+// not re-evaluated, only the tangent moves.
+struct DensePrior {
+  std::vector<int> keys;
+  std::vector<std::vector<double>> lin;  // per key: a pose block (7 values) or a point (3)
+  Eigen::MatrixXd R;
+  Eigen::VectorXd r0;
+
+  // The tangent of `value` (the key's current block) from the key's linearisation point.
+  static Eigen::VectorXd Tangent(int key, const double* value, const double* lin) {
+    if (KindOfKey(key) == VariableKind::kPoint)
+      return Eigen::Vector3d(value[0] - lin[0], value[1] - lin[1], value[2] - lin[2]);
+    return PoseBlockMinus(value, lin);
+  }
+};
+
 struct FrameFactors {
   std::optional<OdometryEntry> odometry;  // links frame k-1 and k
   std::vector<PointMeasurementEntry> measurements;
@@ -231,6 +258,7 @@ struct FactorGraph {
   SE3 T_world_camera0_prior;
   Vec6 prior_sigma = Vec6::Constant(1e-4);
   std::optional<CameraPrior> camera_prior;  // on the window's first camera, once cameras have left it
+  std::optional<DensePrior> dense_prior;    // the exact smoother's, once frames have left its window
   std::unordered_map<int, SmoothnessNoise> smoothness_noise;  // by object id; absent: scale 1
 
   int numFrames() const { return first_stored_frame + static_cast<int>(frames.size()); }

@@ -1,4 +1,4 @@
-// All Ceres autodiff instantiations of the estimator live in this translation unit.
+// The batch schedule's Ceres solve, and the exact fixed-lag smoother's window solve (with its prior).
 #include "backend/graph_solver.h"
 
 #include <ceres/ceres.h>
@@ -17,6 +17,55 @@
 #include "backend/process_noise.h"
 
 namespace dslam {
+namespace {
+
+// The exact smoother's prior (FactorGraph::dense_prior) for Ceres: r = r0 + R [x_i (-) lin_i]. Its Jacobian
+// in each block's tangent stays R's columns (first-estimate Jacobians); Ceres asks for it in the block's
+// ambient coordinates and multiplies by the manifold's Plus Jacobian P, so a pose block's columns are given
+// as R_i (P^T P)^-1 P^T.
+class DensePriorCost : public ceres::CostFunction {
+ public:
+  explicit DensePriorCost(const DensePrior& prior) : prior_(prior) {
+    set_num_residuals(static_cast<int>(prior.R.rows()));
+    for (int key : prior.keys)
+      mutable_parameter_block_sizes()->push_back(KindOfKey(key) == VariableKind::kPoint ? 3 : kPoseBlockSize);
+  }
+
+  bool Evaluate(double const* const* x, double* residuals, double** jacobians) const override {
+    const Eigen::Index rows = prior_.R.rows();
+    Eigen::VectorXd d(prior_.R.cols());
+    Eigen::Index col = 0;
+    for (size_t i = 0; i < prior_.keys.size(); ++i) {
+      const Eigen::VectorXd step = DensePrior::Tangent(prior_.keys[i], x[i], prior_.lin[i].data());
+      d.segment(col, step.size()) = step;
+      col += step.size();
+    }
+    Eigen::Map<Eigen::VectorXd>(residuals, rows) = prior_.r0 + prior_.R * d;
+    if (!jacobians) return true;
+    col = 0;
+    for (size_t i = 0; i < prior_.keys.size(); ++i) {
+      const int dim = TangentDimOfKey(prior_.keys[i]);
+      if (jacobians[i]) {
+        using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+        const int ambient = parameter_block_sizes()[i];
+        Eigen::Map<RowMajor> J(jacobians[i], rows, ambient);
+        if (dim == ambient) {
+          J = prior_.R.middleCols(col, dim);
+        } else {
+          const Eigen::Matrix<double, 7, 6> P = PoseBlockPlusJacobian(x[i]);
+          J = prior_.R.middleCols(col, dim) * (P.transpose() * P).inverse() * P.transpose();
+        }
+      }
+      col += dim;
+    }
+    return true;
+  }
+
+ private:
+  const DensePrior& prior_;
+};
+
+}  // namespace
 
 SolveSummary SolveGraph(const BackendParams& params, const SolveOptions& options, FactorGraph* graph) {
   SolveSummary result;
@@ -83,6 +132,20 @@ SolveSummary SolveGraph(const BackendParams& params, const SolveOptions& options
                                motion(s.curr_motion_var));
     }
   }
+  // The exact smoother's prior, on variables of the window; Ceres may not eliminate its points on their own.
+  std::unordered_set<int> prior_points;
+  if (graph->dense_prior) {
+    std::vector<double*> blocks;
+    for (int key : graph->dense_prior->keys) {
+      const int id = IdOfKey(key);
+      switch (KindOfKey(key)) {
+        case VariableKind::kCamera: blocks.push_back(camera(id)); break;
+        case VariableKind::kPoint: blocks.push_back(point(id)), prior_points.insert(id); break;
+        case VariableKind::kMotion: blocks.push_back(motion(id)); break;
+      }
+    }
+    problem.AddResidualBlock(new DensePriorCost(*graph->dense_prior), nullptr, blocks);
+  }
   result.num_residual_blocks = problem.NumResidualBlocks();
   if (result.num_residual_blocks == 0) return result;
 
@@ -91,8 +154,10 @@ SolveSummary SolveGraph(const BackendParams& params, const SolveOptions& options
   // system with every point ordered before the poses and motions (faster here; same solution).
   const bool schur = params.linear_solver == LinearSolver::kSchur;
   auto* ordering = new ceres::ParameterBlockOrdering;
-  for (int v : point_blocks)
-    ordering->AddElementToGroup(graph->points.at(v).p_world.data(), !schur || graph->points.at(v).eliminate_first ? 0 : 1);
+  for (int v : point_blocks) {
+    const bool first_group = !schur || (graph->points.at(v).eliminate_first && !prior_points.count(v));
+    ordering->AddElementToGroup(graph->points.at(v).p_world.data(), first_group ? 0 : 1);
+  }
   for (int k : camera_blocks) ordering->AddElementToGroup(graph->camera(k), 1);
   for (int m : motion_blocks) ordering->AddElementToGroup(graph->motions.at(m).H_anchor.data(), 1);
 

@@ -16,17 +16,17 @@ namespace {
 using MatX = Eigen::MatrixXd;
 using VecX = Eigen::VectorXd;
 
-// The stacked system [A_leaving | A_kept | r] of the factors, columns of the leaving keys first.
-struct Stacked {
-  MatX A;
-  VecX r;
-  int leaving_cols = 0;
+// Where each key's columns go: the leaving keys' first (in the order given), then the kept keys in increasing
+// order. Checks that the factors agree on each key's dimension and that every block has its residual's rows.
+struct Layout {
+  std::map<int, int> column_of;
+  int cols = 0, rows = 0, leaving_cols = 0;
   std::vector<int> kept_keys, kept_dims;
 };
 
-Stacked Stack(const std::vector<JacobianFactor>& factors, const std::vector<int>& leaving) {
+Layout LayoutOf(const std::vector<JacobianFactor>& factors, const std::vector<int>& leaving) {
   std::map<int, int> dim_of;
-  int rows = 0;
+  Layout layout;
   for (const JacobianFactor& f : factors) {
     if (f.keys.size() != f.blocks.size())
       throw std::invalid_argument("linear factor: " + std::to_string(f.keys.size()) + " keys but " +
@@ -42,43 +42,52 @@ Stacked Stack(const std::vector<JacobianFactor>& factors, const std::vector<int>
                                     std::to_string(it->second) + " and " + std::to_string(f.blocks[j].cols()) +
                                     " columns");
     }
-    rows += static_cast<int>(f.residual.size());
+    layout.rows += static_cast<int>(f.residual.size());
   }
-  Stacked s;
-  std::map<int, int> column_of;
-  int cols = 0;
   for (int key : leaving) {
     const auto it = dim_of.find(key);
-    if (it == dim_of.end() || column_of.count(key)) continue;
-    column_of[key] = cols;
-    cols += it->second;
+    if (it == dim_of.end() || layout.column_of.count(key)) continue;
+    layout.column_of[key] = layout.cols;
+    layout.cols += it->second;
   }
-  s.leaving_cols = cols;
+  layout.leaving_cols = layout.cols;
   for (const auto& [key, dim] : dim_of) {
-    if (column_of.count(key)) continue;
-    column_of[key] = cols;
-    cols += dim;
-    s.kept_keys.push_back(key);
-    s.kept_dims.push_back(dim);
+    if (layout.column_of.count(key)) continue;
+    layout.column_of[key] = layout.cols;
+    layout.cols += dim;
+    layout.kept_keys.push_back(key);
+    layout.kept_dims.push_back(dim);
   }
-  s.A = MatX::Zero(rows, cols);
-  s.r.resize(rows);
+  return layout;
+}
+
+// The stacked system [A_leaving | A_kept | r] of the factors, columns of the leaving keys first.
+struct Stacked {
+  Layout layout;
+  MatX A;
+  VecX r;
+};
+
+Stacked Stack(const std::vector<JacobianFactor>& factors, const std::vector<int>& leaving) {
+  Stacked s{LayoutOf(factors, leaving), MatX(), VecX()};
+  s.A = MatX::Zero(s.layout.rows, s.layout.cols);
+  s.r.resize(s.layout.rows);
   int row = 0;
   for (const JacobianFactor& f : factors) {
     const auto n = f.residual.size();
     for (size_t j = 0; j < f.keys.size(); ++j)
-      s.A.block(row, column_of.at(f.keys[j]), n, f.blocks[j].cols()) += f.blocks[j];
+      s.A.block(row, s.layout.column_of.at(f.keys[j]), n, f.blocks[j].cols()) += f.blocks[j];
     s.r.segment(row, n) = f.residual;
     row += static_cast<int>(n);
   }
   return s;
 }
 
-GaussianMarginal Empty(const Stacked& s) {
+GaussianMarginal Empty(const Layout& layout) {
   GaussianMarginal m;
-  m.keys = s.kept_keys;
-  m.dims = s.kept_dims;
-  const int n = static_cast<int>(s.A.cols()) - s.leaving_cols;
+  m.keys = layout.kept_keys;
+  m.dims = layout.kept_dims;
+  const int n = layout.cols - layout.leaving_cols;
   m.information = MatX::Zero(n, n);
   m.gradient = VecX::Zero(n);
   return m;
@@ -98,11 +107,25 @@ int GaussianMarginal::offset(int key) const {
 }
 
 GaussianMarginal MarginaliseBySchur(const std::vector<JacobianFactor>& factors, const std::vector<int>& leaving) {
-  const Stacked s = Stack(factors, leaving);
-  GaussianMarginal m = Empty(s);
-  const int nl = s.leaving_cols, nk = m.dimension();
-  const MatX H = s.A.transpose() * s.A;
-  const VecX b = s.A.transpose() * s.r;
+  const Layout layout = LayoutOf(factors, leaving);
+  GaussianMarginal m = Empty(layout);
+  const int nl = layout.leaving_cols, nk = m.dimension();
+  // The normal equations factor by factor: a factor touches a few keys, so its blocks are small, where the
+  // stacked Jacobian of a large prior would be rows x columns of mostly zeros.
+  MatX H = MatX::Zero(layout.cols, layout.cols);
+  VecX b = VecX::Zero(layout.cols);
+  for (const JacobianFactor& f : factors) {
+    for (size_t i = 0; i < f.keys.size(); ++i) {
+      const int ci = layout.column_of.at(f.keys[i]);
+      b.segment(ci, f.blocks[i].cols()).noalias() += f.blocks[i].transpose() * f.residual;
+      for (size_t j = i; j < f.keys.size(); ++j) {
+        const int cj = layout.column_of.at(f.keys[j]);
+        const MatX block = f.blocks[i].transpose() * f.blocks[j];
+        H.block(ci, cj, block.rows(), block.cols()) += block;
+        if (j != i) H.block(cj, ci, block.cols(), block.rows()) += block.transpose();
+      }
+    }
+  }
   if (nl == 0) {
     m.information = H;
     m.gradient = b;
@@ -112,7 +135,8 @@ GaussianMarginal MarginaliseBySchur(const std::vector<JacobianFactor>& factors, 
   if (Hll.info() != Eigen::Success) throw std::runtime_error("marginalisation: the leaving variables are not determined");
   // H_kk - H_kl H_ll^-1 H_lk and b_k - H_kl H_ll^-1 b_l.
   const MatX Hll_inv_Hlk = Hll.solve(H.topRightCorner(nl, nk));
-  m.information = H.bottomRightCorner(nk, nk) - H.bottomLeftCorner(nk, nl) * Hll_inv_Hlk;
+  m.information = H.bottomRightCorner(nk, nk);
+  m.information.noalias() -= H.bottomLeftCorner(nk, nl) * Hll_inv_Hlk;
   m.information = 0.5 * (m.information + m.information.transpose());
   m.gradient = b.tail(nk) - Hll_inv_Hlk.transpose() * b.head(nl);
   return m;
@@ -120,8 +144,8 @@ GaussianMarginal MarginaliseBySchur(const std::vector<JacobianFactor>& factors, 
 
 GaussianMarginal MarginaliseByQr(const std::vector<JacobianFactor>& factors, const std::vector<int>& leaving) {
   const Stacked s = Stack(factors, leaving);
-  GaussianMarginal m = Empty(s);
-  const int nl = s.leaving_cols, nk = m.dimension();
+  GaussianMarginal m = Empty(s.layout);
+  const int nl = s.layout.leaving_cols, nk = m.dimension();
   MatX rest(s.A.rows(), nk + 1);
   rest << s.A.rightCols(nk), s.r;
   if (nl > 0) {
@@ -137,6 +161,18 @@ GaussianMarginal MarginaliseByQr(const std::vector<JacobianFactor>& factors, con
 }
 
 SquareRootRows SquareRootOf(const GaussianMarginal& marginal, double relative_tolerance) {
+  // Well determined (every pivot above the tolerance): the Cholesky factor, H = L L^T, R = L^T, r = L^-1 b,
+  // an order of magnitude cheaper than the eigen-decomposition below.
+  const Eigen::LLT<MatX> llt(marginal.information);
+  if (llt.info() == Eigen::Success && marginal.information.rows() > 0) {
+    const VecX pivots = llt.matrixL().toDenseMatrix().diagonal().cwiseAbs2();
+    if (pivots.minCoeff() > relative_tolerance * marginal.information.diagonal().maxCoeff()) {
+      SquareRootRows out;
+      out.R = llt.matrixU();
+      out.r = llt.matrixL().solve(marginal.gradient);
+      return out;
+    }
+  }
   const Eigen::SelfAdjointEigenSolver<MatX> eig(marginal.information);
   const VecX& lambda = eig.eigenvalues();  // increasing
   const int n = static_cast<int>(lambda.size());

@@ -32,7 +32,8 @@ struct GaussianMarginal {
   int offset(int key) const;
 };
 
-// Rows R d + r of a marginal with R^T R = H and R^T r = b, from H's eigen-decomposition: directions
+// Rows R d + r of a marginal with R^T R = H and R^T r = b: H's Cholesky factor when every pivot is above
+// relative_tolerance times H's largest diagonal entry, else from H's eigen-decomposition, where directions
 // whose information is below relative_tolerance times the largest carry none and are left out, so a
 // rank-deficient marginal gives fewer rows than its dimension.
 struct SquareRootRows {

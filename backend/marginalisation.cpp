@@ -24,19 +24,6 @@
 namespace dslam {
 namespace {
 
-std::optional<Vec3> Centroid(const FactorGraph& graph, const std::vector<int>& vars) {
-  Vec3 sum = Vec3::Zero();
-  int n = 0;
-  for (int v : vars) {
-    const auto it = graph.points.find(v);
-    if (it == graph.points.end()) continue;
-    sum += it->second.position();
-    ++n;
-  }
-  if (n == 0) return std::nullopt;
-  return sum / static_cast<double>(n);
-}
-
 template <typename T, typename Pred>
 void EraseIf(std::vector<T>& items, Pred pred) {
   items.erase(std::remove_if(items.begin(), items.end(), pred), items.end());
@@ -49,6 +36,19 @@ Vec6 LinearFactorResidual(const FactorGraph& graph, const LinearPointFactor& lf)
 }
 
 }  // namespace
+
+std::optional<Vec3> Centroid(const FactorGraph& graph, const std::vector<int>& vars) {
+  Vec3 sum = Vec3::Zero();
+  int n = 0;
+  for (int v : vars) {
+    const auto it = graph.points.find(v);
+    if (it == graph.points.end()) continue;
+    sum += it->second.position();
+    ++n;
+  }
+  if (n == 0) return std::nullopt;
+  return sum / static_cast<double>(n);
+}
 
 double SpeedSigmaMps(const MotionVariable& motion, const Vec3& centroid_prev_world, const Vec3& velocity_per_frame,
                      double frame_rate_hz) {

@@ -30,11 +30,17 @@
 //    object points hold it at its final estimate.
 // Final estimates are handed to the sink as they leave.
 
+#include <optional>
+#include <vector>
+
 #include "backend/backend_params.h"
 #include "backend/estimate.h"
 #include "backend/factor_graph.h"
 
 namespace dslam {
+
+// The centroid of the estimates of those point variables still in the graph (none: nullopt).
+std::optional<Vec3> Centroid(const FactorGraph& graph, const std::vector<int>& vars);
 
 // The estimate of one object transition from the graph's current values (velocity from the centroid
 // of the tracks at k-1: the frozen one once those variables left the window).

@@ -51,8 +51,13 @@ void AccumulateLeavingSmoothness(const BackendParams& params, int frame, FactorG
     return;
   for (const SmoothnessEntry& s : graph->frame(frame).smoothness) {
     if (graph->motions.at(s.curr_motion_var).last_frame > frame) continue;  // its motion stays
-    Add(ConfiguredSmoothnessResidual(params, *graph, s), &graph->smoothness_noise[ObjectOf(*graph, s)].final);
+    AccumulateFinalSmoothness(params, s, graph);
   }
+}
+
+void AccumulateFinalSmoothness(const BackendParams& params, const SmoothnessEntry& s, FactorGraph* graph) {
+  if (!params.noise.smoothness_from_residuals) return;
+  Add(ConfiguredSmoothnessResidual(params, *graph, s), &graph->smoothness_noise[ObjectOf(*graph, s)].final);
 }
 
 void ForgetObjectsWithoutMotions(FactorGraph* graph) {

@@ -27,6 +27,10 @@ Vec6 ConfiguredSmoothnessResidual(const BackendParams& params, const FactorGraph
 // its object's final statistics (the fixed-lag smoother calls it before it erases those motions).
 void AccumulateLeavingSmoothness(const BackendParams& params, int frame, FactorGraph* graph);
 
+// Adds one smoothness factor's residual to its object's final statistics (the exact smoother, as it
+// eliminates the factor).
+void AccumulateFinalSmoothness(const BackendParams& params, const SmoothnessEntry& s, FactorGraph* graph);
+
 // Drops the process noise of objects with no motion variable left (the smoother let their track go): one that
 // comes back starts afresh, and memory stays bounded by the window.
 void ForgetObjectsWithoutMotions(FactorGraph* graph);

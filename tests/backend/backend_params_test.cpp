@@ -69,5 +69,13 @@ TEST(ParseSchedule, BatchAndWindow) {
     EXPECT_THROW(ParseSchedule(bad), std::invalid_argument) << bad;
 }
 
+TEST(ParseMarginalisation, KnownAndUnknown) {
+  EXPECT_EQ(BackendParams().marginalisation, Marginalisation::kSparsified);
+  for (Marginalisation m : {Marginalisation::kSparsified, Marginalisation::kExact})
+    EXPECT_EQ(ParseMarginalisation(ToString(m)), m);
+  EXPECT_EQ(ParseMarginalisation("exact"), Marginalisation::kExact);
+  for (const char* bad : {"Exact", "schur", ""}) EXPECT_THROW(ParseMarginalisation(bad), std::invalid_argument) << bad;
+}
+
 }  // namespace
 }  // namespace dslam

@@ -25,6 +25,7 @@ TEST(ConfigYaml, RoundTripKeepsEveryValue) {
   c.classifier.min_static_transitions = 3;
   c.classifier.small_object_area_pct = 1.5;
   c.backend.linear_solver = LinearSolver::kSchur;
+  c.backend.marginalisation = Marginalisation::kExact;
   c.frontend.warped_search.radius_px = 31;
   c.frontend.warped_search.min_ncc = 0.9;
   c.frontend.warped_search.min_deformation = 0.2;
@@ -49,6 +50,7 @@ TEST(ConfigYaml, RoundTripKeepsEveryValue) {
   EXPECT_EQ(back.classifier.min_static_transitions, 3);
   EXPECT_EQ(back.classifier.small_object_area_pct, 1.5);
   EXPECT_EQ(back.backend.linear_solver, LinearSolver::kSchur);
+  EXPECT_EQ(back.backend.marginalisation, Marginalisation::kExact);
   EXPECT_EQ(back.frontend.warped_search.radius_px, 31);
   EXPECT_EQ(back.frontend.warped_search.min_ncc, 0.9);
   EXPECT_EQ(back.frontend.warped_search.min_deformation, 0.2);
@@ -84,6 +86,7 @@ TEST(ConfigYaml, BadInputIsAClearError) {
   ExpectError("noise:\n  point_sigma_m: abc\n", "wrong type");
   ExpectError("noise: [1, 2\n", "not valid YAML");
   ExpectError("backend:\n  linear_solver: qr\n", "unknown linear solver 'qr'");
+  ExpectError("backend:\n  marginalisation: dense\n", "unknown marginalisation 'dense'");
   ExpectError("backend:\n  object_modes:\n    x: constant\n", "object_modes");
   // Sizes that would make OpenCV fail to allocate are errors naming the key, up front.
   ExpectError("frontend:\n  lk_window_px: 100000\n", "lk_window_px must be in 5..201");
