@@ -28,7 +28,8 @@
 //    made and kept there (first-estimate Jacobian), which replaces the odometry into that camera. Sparsified: the measurements of landmarks
 //    still observed stay with those landmarks, camera held (above), and the linear factors left by its
 //    object points hold it at its final estimate.
-// Final estimates are handed to the sink as they leave.
+// Final estimates are handed to the sink as they leave. With BackendParams::marginalisation exact, none of
+// this applies: backend/exact_marginalisation.h eliminates what leaves by one Schur complement instead.
 
 #include <optional>
 #include <vector>
