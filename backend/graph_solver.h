@@ -1,8 +1,9 @@
 #pragma once
 // The batch schedule: builds a Ceres problem from the factors of frames [first_frame, last_frame] and
 // solves it in place. Variables only observed before first_frame are held constant; the prior on the
-// first camera is included when the range starts at frame 0. (The online schedule is the fixed-lag
-// smoother, backend/fixed_lag_smoother.h.)
+// first camera is included when the range starts at frame 0, and the graph's dense prior (the exact
+// fixed-lag smoother's, backend/exact_marginalisation.h) whenever there is one. (The default online
+// schedule is the sparsified fixed-lag smoother, backend/window_solver.h.)
 
 #include "backend/backend_params.h"
 #include "backend/factor_graph.h"
