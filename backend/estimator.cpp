@@ -32,12 +32,14 @@ void Estimator::addFrame(const FrameMeasurement& frame) {
   if (params_.schedule.kind != ScheduleKind::kSlidingWindow) return;
 
   const auto start = std::chrono::steady_clock::now();
+  const SolveStats stats = params_.marginalisation == Marginalisation::kExact ? stepExact(k) : stepSparsified(k);
+  recordSolve(stats, start);
+}
+
+// The sparsified window: what leaves is marginalised by type (backend/marginalisation.h) and the window is
+// solved by its own solver (backend/window_solver.h).
+Estimator::SolveStats Estimator::stepSparsified(int k) {
   const int window = params_.schedule.window_frames;
-  if (params_.marginalisation == Marginalisation::kExact) {
-    stepExact(k);
-    recordSolve(start);
-    return;
-  }
   const int object_window = std::min(params_.object_window_frames, window);
   if (object_window == window) {
     if (k - window >= 0) MarginaliseObjectFrame(params_, frame_rate_hz_, k - window, &graph_, sink_);
@@ -63,15 +65,13 @@ void Estimator::addFrame(const FrameMeasurement& frame) {
   UpdateSmoothnessScales(params_, solve.first_frame, solve.last_frame, &graph_);
   const WindowSolveSummary summary = SolveWindow(params_, solve, &graph_);
   for (const CameraStepCovariance& c : summary.camera_step_covariances) camera_step_covariance_[c.frame] = c.covariance;
-  last_residual_blocks_ = summary.num_residual_blocks;
-  last_iterations_ = summary.num_iterations;
-  recordSolve(start);
+  return {summary.num_residual_blocks, summary.num_iterations};
 }
 
 // The exact fixed lag: the leaving frame is eliminated into the dense prior, and the window, prior
 // included, is solved by Ceres (backend/exact_marginalisation.h). One window of W frames for every
 // variable.
-void Estimator::stepExact(int k) {
+Estimator::SolveStats Estimator::stepExact(int k) {
   const int window = params_.schedule.window_frames;
   const bool fix_cameras = static_cast<bool>(options_.fixed_T_world_camera);
   if (k - window >= 0) {
@@ -87,18 +87,17 @@ void Estimator::stepExact(int k) {
   solve.fix_cameras = fix_cameras;
   UpdateSmoothnessScales(params_, solve.first_frame, solve.last_frame, &graph_);
   const SolveSummary summary = SolveGraph(params_, solve, &graph_);
-  last_residual_blocks_ = summary.num_residual_blocks;
-  last_iterations_ = summary.num_iterations;
+  return {summary.num_residual_blocks, summary.num_iterations};
 }
 
-void Estimator::recordSolve(std::chrono::steady_clock::time_point start) {
+void Estimator::recordSolve(const SolveStats& stats, std::chrono::steady_clock::time_point start) {
   if (!options_.keep_solve_history) {
     solve_residual_blocks_.clear();
     solve_iterations_.clear();
     solve_times_ms_.clear();
   }
-  solve_residual_blocks_.push_back(last_residual_blocks_);
-  solve_iterations_.push_back(last_iterations_);
+  solve_residual_blocks_.push_back(stats.residual_blocks);
+  solve_iterations_.push_back(stats.iterations);
   solve_times_ms_.push_back(
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
 }

@@ -62,8 +62,14 @@ class Estimator {
   const GraphBuilder& builder() const { return builder_; }
 
  private:
-  void stepExact(int k);  // the sliding window with exact marginalisation, after frame k was added
-  void recordSolve(std::chrono::steady_clock::time_point start);  // the last solve's statistics
+  struct SolveStats {
+    int residual_blocks = 0;
+    int iterations = 0;
+  };
+  // The sliding window after frame k was added: what leaves is marginalised, the window solved.
+  SolveStats stepSparsified(int k);
+  SolveStats stepExact(int k);
+  void recordSolve(const SolveStats& stats, std::chrono::steady_clock::time_point start);
   void flush();  // hands everything still in the graph to the sink
   void batchCovariances();
   void handStepCovariance(int frame);  // to the sink, before the camera itself
@@ -81,8 +87,6 @@ class Estimator {
   std::vector<double> solve_times_ms_;
   std::vector<int> solve_residual_blocks_;
   std::vector<int> solve_iterations_;
-  int last_residual_blocks_ = 0;
-  int last_iterations_ = 0;
 };
 
 }  // namespace dslam
