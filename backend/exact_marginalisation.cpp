@@ -115,8 +115,8 @@ class Rows {
 };
 
 // A pose factor's rows; a block whose key is -1 is held (no columns).
-void AddPoseFactor(const ceres::CostFunction& cost, const std::vector<int>& keys, const std::vector<const double*>& values,
-                   const HuberLoss* robust, Rows* rows) {
+void AddPoseFactor(const ceres::CostFunction& cost, const std::vector<int>& keys,
+                   const std::vector<const double*>& values, const HuberLoss* robust, Rows* rows) {
   Mat6 J[2];
   Mat6* wanted[2] = {keys[0] >= 0 ? &J[0] : nullptr, keys.size() > 1 && keys[1] >= 0 ? &J[1] : nullptr};
   const Vec6 r = LinearisePoseFactor(cost, values.data(), wanted);
@@ -134,13 +134,15 @@ void AddFactors(const BackendParams& params, const FactorGraph& graph, const Tou
   if (params.noise.smoothness_huber_delta > 0.0) smoothness_huber = HuberLoss{params.noise.smoothness_huber_delta};
   const Mat3 motion_whitening = Mat3::Identity() / params.noise.motion_sigma_m;
   if (graph.first_stored_frame == 0 && touch.camera(0) && graph.numFrames() > 0) {
-    const std::unique_ptr<ceres::CostFunction> prior(PosePriorFactor::Create(graph.T_world_camera0_prior, graph.prior_sigma));
+    const std::unique_ptr<ceres::CostFunction> prior(
+        PosePriorFactor::Create(graph.T_world_camera0_prior, graph.prior_sigma));
     AddPoseFactor(*prior, {CameraKey(0)}, {graph.camera(0)}, nullptr, rows);
   }
   for (int k = graph.first_stored_frame; k < graph.numFrames(); ++k) {
     const FrameFactors& f = graph.frame(k);
     if (f.odometry && k > graph.first_stored_frame && touch.odometry(k)) {
-      const std::unique_ptr<ceres::CostFunction> cost(OdometryFactor::Create(f.odometry->T_prev_curr, f.odometry->sigma));
+      const std::unique_ptr<ceres::CostFunction> cost(
+          OdometryFactor::Create(f.odometry->T_prev_curr, f.odometry->sigma));
       AddPoseFactor(*cost, {CameraKey(k - 1), CameraKey(k)}, {graph.camera(k - 1), graph.camera(k)}, nullptr, rows);
     }
     const double* cam = graph.camera(k);
@@ -148,8 +150,9 @@ void AddFactors(const BackendParams& params, const FactorGraph& graph, const Tou
       if (!touch.measurement(k, e)) continue;
       Mat36 J_camera;
       Mat3 J_point;
-      const Vec3 r = PointMeasurementResidual(BlockRotationMatrix(cam), BlockTranslation(cam), graph.points.at(e.point_var).position(),
-                                              e.z_camera, e.sigma_m.cwiseInverse(), &J_camera, &J_point);
+      const Vec3 r = PointMeasurementResidual(BlockRotationMatrix(cam), BlockTranslation(cam),
+                                              graph.points.at(e.point_var).position(), e.z_camera,
+                                              e.sigma_m.cwiseInverse(), &J_camera, &J_point);
       const double w = huber.sqrtWeight(r.squaredNorm());
       rows->add({CameraKey(k), PointKey(e.point_var)}, {w * J_camera, w * J_point}, w * r);
     }
@@ -160,8 +163,8 @@ void AddFactors(const BackendParams& params, const FactorGraph& graph, const Tou
       Mat36 J_motion;
       const Vec3 r = PointMotionResidual(BlockRotationMatrix(H.H_anchor.data()), BlockTranslation(H.H_anchor.data()),
                                          H.anchor_world, graph.points.at(e.prev_point_var).position(),
-                                         graph.points.at(e.curr_point_var).position(), motion_whitening, &J_prev, &J_curr,
-                                         &J_motion);
+                                         graph.points.at(e.curr_point_var).position(), motion_whitening, &J_prev,
+                                         &J_curr, &J_motion);
       const double w = huber.sqrtWeight(r.squaredNorm());
       rows->add({PointKey(e.prev_point_var), PointKey(e.curr_point_var), MotionKey(e.motion_var)},
                 {w * J_prev, w * J_curr, w * J_motion}, w * r);
@@ -171,8 +174,8 @@ void AddFactors(const BackendParams& params, const FactorGraph& graph, const Tou
       const MotionVariable& curr = graph.motions.at(s.curr_motion_var);
       const bool prev_live = s.prev_motion_var >= 0;
       const Vec3 anchor_prev = prev_live ? graph.motions.at(s.prev_motion_var).anchor_world : s.prev_fixed_anchor;
-      const std::unique_ptr<ceres::CostFunction> cost(
-          MotionSmoothnessFactor::Create(SmoothnessSigma(params, graph, curr.object_id), anchor_prev, curr.anchor_world));
+      const std::unique_ptr<ceres::CostFunction> cost(MotionSmoothnessFactor::Create(
+          SmoothnessSigma(params, graph, curr.object_id), anchor_prev, curr.anchor_world));
       const double* prev = prev_live ? graph.motions.at(s.prev_motion_var).H_anchor.data() : s.prev_fixed.data();
       AddPoseFactor(*cost, {prev_live ? MotionKey(s.prev_motion_var) : -1, MotionKey(s.curr_motion_var)},
                     {prev, curr.H_anchor.data()}, smoothness_huber ? &*smoothness_huber : nullptr, rows);
@@ -286,7 +289,8 @@ void MarginaliseFrameExactly(const BackendParams& params, double frame_rate_hz, 
       AccumulateFinalSmoothness(params, s, graph);
       return true;
     };
-    f.smoothness.erase(std::remove_if(f.smoothness.begin(), f.smoothness.end(), leaving_smoothness), f.smoothness.end());
+    f.smoothness.erase(std::remove_if(f.smoothness.begin(), f.smoothness.end(), leaving_smoothness),
+                       f.smoothness.end());
   }
   for (int key : leaving) {
     if (KindOfKey(key) == VariableKind::kPoint) graph->points.erase(IdOfKey(key));

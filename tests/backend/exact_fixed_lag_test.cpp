@@ -147,7 +147,8 @@ TEST(ExactFixedLag, EachVariableTypeLeavesWithTheLastFrameThatRefersToIt) {
   for (int k = graph.first_stored_frame; k < graph.numFrames(); ++k) {
     const FrameFactors& f = graph.frame(k);
     for (const auto& e : f.measurements) EXPECT_TRUE(graph.points.count(e.point_var));
-    for (const auto& e : f.point_motions) EXPECT_TRUE(graph.points.count(e.prev_point_var) && graph.motions.count(e.motion_var));
+    for (const auto& e : f.point_motions)
+      EXPECT_TRUE(graph.points.count(e.prev_point_var) && graph.motions.count(e.motion_var));
     for (const auto& e : f.smoothness) EXPECT_TRUE(graph.motions.count(e.prev_motion_var));
   }
   EXPECT_FALSE(graph.frame(2).odometry.has_value()) << "camera 1's odometry into 2 is in the prior";
@@ -187,10 +188,9 @@ TEST(ExactFixedLag, WithTheCamerasHeldOnlyPointsAndMotionsAreInThePrior) {
   MarginaliseFrameExactly(params, 10.0, 0, true, &graph, &sink);
   ASSERT_TRUE(graph.dense_prior.has_value());
   for (int key : graph.dense_prior->keys) EXPECT_NE(KindOfKey(key), VariableKind::kCamera);
+  const std::vector<int>& keys = graph.dense_prior->keys;
   for (int v : landmarks_kept)
-    EXPECT_NE(std::find(graph.dense_prior->keys.begin(), graph.dense_prior->keys.end(), VariableKey(VariableKind::kPoint, v)),
-              graph.dense_prior->keys.end())
-        << v;
+    EXPECT_NE(std::find(keys.begin(), keys.end(), VariableKey(VariableKind::kPoint, v)), keys.end()) << v;
   EXPECT_EQ(sink.cameras, (std::vector<int>{0}));
 }
 
