@@ -1,7 +1,5 @@
 #include "backend/exact_marginalisation.h"
 
-#include <Eigen/Cholesky>
-
 #include <algorithm>
 #include <deque>
 #include <memory>
@@ -187,11 +185,8 @@ void AddFactors(const BackendParams& params, const FactorGraph& graph, const Tou
   // Priors the sparsified window left on a landmark (none in an exact run), as rows at its estimate.
   for (const auto& [id, p] : graph.points) {
     if (!touch.point(id) || !p.hasPrior()) continue;
-    Mat3 info;
-    Vec3 gradient;
-    p.priorNormalEquations(p.position(), huber, &info, &gradient);
-    const Mat3 U = (info + 1e-12 * Mat3::Identity()).llt().matrixU();  // U^T U = info
-    rows->add({PointKey(id)}, {MatX(U)}, U.transpose().triangularView<Eigen::Lower>().solve(gradient));
+    const JacobianFactor prior = PointPriorRows(PointKey(id), p, huber);
+    rows->add(prior.keys, prior.blocks, prior.residual);
   }
 }
 
@@ -245,7 +240,7 @@ void MarginaliseFrameExactly(const BackendParams& params, double frame_rate_hz, 
       p.r0 = square_root.r;
       for (int key : p.keys) {
         const double* ref = rows.reference(key);
-        p.lin.emplace_back(ref, ref + (KindOfKey(key) == VariableKind::kPoint ? 3 : kPoseBlockSize));
+        p.lin.emplace_back(ref, ref + ValueSizeOfKey(key));
       }
       prior = std::move(p);
     }

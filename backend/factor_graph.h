@@ -164,6 +164,7 @@ inline int VariableKey(VariableKind kind, int id) { return 3 * id + static_cast<
 inline VariableKind KindOfKey(int key) { return static_cast<VariableKind>(key % 3); }
 inline int IdOfKey(int key) { return key / 3; }
 inline int TangentDimOfKey(int key) { return KindOfKey(key) == VariableKind::kPoint ? 3 : 6; }
+inline int ValueSizeOfKey(int key) { return KindOfKey(key) == VariableKind::kPoint ? 3 : kPoseBlockSize; }
 
 // What the frames that left the exact fixed-lag smoother's window say about the variables still in it
 // (backend/exact_marginalisation.h): whitened rows r = r0 + R [x_1 (-) lin_1; x_2 (-) lin_2; ...] over

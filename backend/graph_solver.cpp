@@ -28,7 +28,7 @@ class DensePriorCost : public ceres::CostFunction {
   explicit DensePriorCost(const DensePrior& prior) : prior_(prior) {
     set_num_residuals(static_cast<int>(prior.R.rows()));
     for (int key : prior.keys)
-      mutable_parameter_block_sizes()->push_back(KindOfKey(key) == VariableKind::kPoint ? 3 : kPoseBlockSize);
+      mutable_parameter_block_sizes()->push_back(ValueSizeOfKey(key));
   }
 
   bool Evaluate(double const* const* x, double* residuals, double** jacobians) const override {

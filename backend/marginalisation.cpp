@@ -278,10 +278,6 @@ void MarginaliseObjectFrame(const BackendParams& params, double frame_rate_hz, i
   }
 }
 
-namespace {
-
-// The rows of a landmark's prior and held measurements at its estimate (their Gauss-Newton information
-// and gradient in square-root form).
 JacobianFactor PointPriorRows(int key, const PointVariable& var, const HuberLoss& huber) {
   GaussianMarginal normal;
   normal.keys = {key};
@@ -293,8 +289,6 @@ JacobianFactor PointPriorRows(int key, const PointVariable& var, const HuberLoss
   normal.gradient = gradient;
   return FactorOf(normal);
 }
-
-}  // namespace
 
 void MarginaliseCameraFrame(const BackendParams& params, int m, FactorGraph* graph, EstimateSink* sink) {
   const HuberLoss huber{params.noise.huber_delta};

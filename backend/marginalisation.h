@@ -37,11 +37,16 @@
 #include "backend/backend_params.h"
 #include "backend/estimate.h"
 #include "backend/factor_graph.h"
+#include "backend/linear_elimination.h"
 
 namespace dslam {
 
 // The centroid of the estimates of those point variables still in the graph (none: nullopt).
 std::optional<Vec3> Centroid(const FactorGraph& graph, const std::vector<int>& vars);
+
+// The rows of a landmark's prior and held measurements at its estimate (their Gauss-Newton information and
+// gradient in square-root form), as a factor on `key`.
+JacobianFactor PointPriorRows(int key, const PointVariable& var, const HuberLoss& huber);
 
 // The estimate of one object transition from the graph's current values (velocity from the centroid
 // of the tracks at k-1: the frozen one once those variables left the window).

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "backend/methods.h"
+#include "bench/percentile.h"
 #include "evaluation/evaluate_run.h"
 #include "frontend/dynamic_object_classifier.h"
 #include "pipeline/run_defaults.h"
@@ -81,12 +82,6 @@ dslam::Estimate FixedLagReference(const dslam::BackendParams& window_params, con
   return reference;
 }
 
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
-}
-
 }  // namespace
 
 static int Run(int argc, char** argv) {
@@ -120,8 +115,9 @@ static int Run(int argc, char** argv) {
     const dslam::Estimate full = dslam::RunMethod(dslam::Method::kOurs, batch, seq.frame_rate_hz, frames).estimate;
     const dslam::MethodResult windowed = dslam::RunMethod(dslam::Method::kOurs, window, seq.frame_rate_hz, frames);
     const dslam::MethodResult exact_lag = dslam::RunMethod(dslam::Method::kOurs, exact, seq.frame_rate_hz, frames);
-    std::printf("%-6d back-end median a frame: window %.2f ms, exact %.2f ms\n", seed, Median(windowed.solve_times_ms),
-                Median(exact_lag.solve_times_ms));
+    std::printf("%-6d back-end median a frame: window %.2f ms, exact %.2f ms\n", seed,
+                dslam::bench::Percentile(windowed.solve_times_ms, 0.5),
+                dslam::bench::Percentile(exact_lag.solve_times_ms, 0.5));
     const dslam::Estimate reference = FixedLagReference(window, batch, seq.frame_rate_hz, frames, full);
     const dslam::Estimate* estimates[] = {&windowed.estimate, &exact_lag.estimate, &reference, &full};
     for (int i = 0; i < 4; ++i) {
